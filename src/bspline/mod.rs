@@ -1,0 +1,1 @@
+//! Least-squares cubic B-spline fitting.

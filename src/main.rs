@@ -1,0 +1,2 @@
+//! The `kansei` command line.
+fn main() {}

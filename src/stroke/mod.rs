@@ -1,0 +1,1 @@
+//! Strokes: the samples a pen produced, and the `kansei-stroke` v1 file format.
