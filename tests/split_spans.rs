@@ -390,6 +390,24 @@ fn straight_stretch_between_two_bends_keeps_its_real_inflection_only() {
     assert!(s.spans.iter().any(|sp| sp.sign == CurvatureSign::Negative));
 }
 
+#[test]
+fn exactly_straight_chain_is_one_zero_span() {
+    // Collinear control points with uneven spacing: κ ≡ 0, g and h vanish identically.
+    let ctrl = [0.0, 1.0, 3.0, 3.5, 6.0, 7.0].map(|x| Point::new(x, 2.0 * x + 1.0));
+    let pieces = uniform_bspline(&ctrl);
+    for options in [
+        SplitOptions::default(),
+        SplitOptions::default()
+            .with_extremum_relative(0.0)
+            .with_straight_turning(0.0),
+    ] {
+        let s = split_spans(&pieces, &options).expect("valid");
+        assert_eq!(s.splits.len(), 2, "{:?}", s.splits);
+        assert_eq!(s.spans[0].sign, CurvatureSign::Zero);
+        assert_eq!(s.spans[0].pieces, pieces);
+    }
+}
+
 fn transform(pieces: &[ParamBez], angle: f64, scale: f64, offset: Vec2) -> Vec<ParamBez> {
     let (sin, cos) = angle.sin_cos();
     let map = |p: Point| {
@@ -442,18 +460,20 @@ fn similarity_transforms_do_not_change_the_split() {
     }
 }
 
-#[test]
-fn spans_are_monotonic_and_single_signed_on_random_splines() {
-    let options = SplitOptions::default();
-    let mut checked = 0;
+/// Samples every span densely and checks one sign and monotonic `|κ|` up to `slack(peak, straight)`
+/// (`peak` the span's largest sampled |κ|); returns how many regular splines were checked and the
+/// total number of spans.
+fn check_random_splines(options: &SplitOptions, slack: impl Fn(f64, f64) -> f64) -> (usize, usize) {
+    let (mut checked, mut spans) = (0, 0);
     for seed in 0..40 {
         let pieces = random_spline(seed, 6 + (seed as usize % 7));
-        let s = match split_spans(&pieces, &options) {
+        let s = match split_spans(&pieces, options) {
             Ok(s) => s,
             Err(SplitError::Singular { .. }) => continue,
             Err(e) => panic!("seed {seed}: {e}"),
         };
         checked += 1;
+        spans += s.spans.len();
         check_structure(&pieces, &s, seed);
         for span in &s.spans {
             let samples: Vec<f64> = span
@@ -462,7 +482,7 @@ fn spans_are_monotonic_and_single_signed_on_random_splines() {
                 .flat_map(|p| (0..=200).map(move |j| kappa_local(&p.bez, j as f64 / 200.0)))
                 .collect();
             let peak = samples.iter().fold(0.0f64, |m, k| m.max(k.abs()));
-            let slack = (options.extremum_relative * peak).max(s.straight_curvature) + 1e-9 * peak;
+            let slack = slack(peak, s.straight_curvature);
             let increasing = samples[samples.len() - 1].abs() >= samples[0].abs();
             let mut best = if increasing { 0.0 } else { f64::INFINITY };
             for &k in &samples {
@@ -488,7 +508,32 @@ fn spans_are_monotonic_and_single_signed_on_random_splines() {
             }
         }
     }
+    (checked, spans)
+}
+
+#[test]
+fn spans_are_monotonic_and_single_signed_on_random_splines() {
+    // Default thresholds: monotonic and single-signed up to the documented threshold.
+    let options = SplitOptions::default();
+    let (checked, spans) = check_random_splines(&options, |peak, straight| {
+        (options.extremum_relative * peak).max(straight) + 1e-9 * peak
+    });
     assert!(checked >= 30, "only {checked} regular random splines");
+    assert!(
+        spans >= 3 * checked,
+        "too few spans ({spans}) for the check to mean anything"
+    );
+    // No thresholds: every extremum and joint is kept, and the spans are monotonic up to rounding
+    // (this checks that the root isolation misses nothing).
+    let raw = SplitOptions::default()
+        .with_extremum_relative(0.0)
+        .with_straight_relative(0.0)
+        .with_straight_turning(0.0);
+    let (_, raw_spans) = check_random_splines(&raw, |peak, _| 1e-9 * peak);
+    assert!(
+        raw_spans > spans,
+        "thresholds dropped nothing: {raw_spans} vs {spans}"
+    );
 }
 
 /// Structural invariants of any result.

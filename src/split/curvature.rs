@@ -125,7 +125,7 @@ impl PieceCurvature {
             .iter()
             .map(|r| phi_poly.eval(r.t))
             .fold(phi_poly.eval(0.0).min(phi_poly.eval(1.0)), f64::min);
-        if !(min_phi >= DEGENERATE_SPEED_RELATIVE * DEGENERATE_SPEED_RELATIVE) {
+        if min_phi.is_nan() || min_phi < DEGENERATE_SPEED_RELATIVE * DEGENERATE_SPEED_RELATIVE {
             return None;
         }
         Some(PieceCurvature {
