@@ -34,7 +34,8 @@ const CAPACITY: usize = MAX_DEGREE + 1;
 /// Multiple of `f64::EPSILON · Σ|c_i||x|^i` below which a computed value's sign is not trusted.
 /// Horner's rule alone is within `2n·(ε/2) = 6ε` for degree 6; the coefficients of the curvature
 /// polynomials are themselves sums of products of rounded cross/dot products, which costs another
-/// few ε each. 64 covers both with margin while still resolving roots separated by ~1e-7.
+/// few ε each. 64 covers both with margin while still resolving simple roots about 1e-6 apart
+/// (for coefficients of order one; see the clustered-roots tests).
 const SIGN_ULPS: f64 = 64.0;
 
 /// Absolute tolerance on a root's parameter, handed to ITP. Roots live in `[0, 1]`, where one ulp
