@@ -46,5 +46,9 @@ impl ParamBez {
 /// κ = (x′y″ − x″y′) / (x′² + y′²)^{3/2}. Returns 0 where the first derivative vanishes.
 pub fn curvature_from_derivs(d1: Vec2, d2: Vec2) -> f64 {
     let f = d1.hypot2();
-    if f == 0.0 { 0.0 } else { d1.cross(d2) / (f * f.sqrt()) }
+    if f == 0.0 {
+        0.0
+    } else {
+        d1.cross(d2) / (f * f.sqrt())
+    }
 }

@@ -2,13 +2,38 @@
 //!
 //! The pipeline (Miura et al., "Input of log-aesthetic curves with a pen tablet"):
 //! 1. [`stroke`]: samples (x, y, time, pressure, tilt), read from `kansei-stroke` JSON.
-//! 2. [`bspline`]: least-squares cubic B-spline, segments added until the tolerance holds.
-//! 3. [`split`]: Bézier pieces split at inflections and curvature extrema into monotonic spans.
-//! 4. [`lac`]: one log-aesthetic curve segment per span, G1 chain.
-//! 5. [`export`]: `kansei-curve` JSON.
+//! 2. [`prepare`]: duplicates merged, the stroke cut at corners, the pen's hooks dropped.
+//! 3. [`bspline`]: least-squares cubic B-spline, segments added until every sample is within the
+//!    tolerance of the curve.
+//! 4. [`split`]: Bézier pieces split at inflections and curvature extrema into spans of
+//!    monotonic curvature.
+//! 5. [`lac`]: one log-aesthetic curve segment per span, a G1 chain.
+//! 6. [`export`]: `kansei-curve` JSON.
+//!
+//! [`pipeline`] composes the stages; [`cli`] is the command line.
+//!
+//! ```
+//! use kansei::pipeline::{PipelineOptions, fit_file};
+//! use kansei::stroke::{Stroke, StrokeFile, Units};
+//! use kansei::geom::Point;
+//!
+//! // A quarter circle of radius 50 mm, sampled every degree.
+//! let arc = Stroke::from_points((0..=90).map(|d| {
+//!     let a = (d as f64).to_radians();
+//!     Point::new(50.0 * a.cos(), 50.0 * a.sin())
+//! }));
+//! let file = StrokeFile::new(Units::Mm, vec![arc]);
+//! let out = fit_file(&file, &PipelineOptions::default()).unwrap();
+//! assert_eq!(out.curves.len(), 1);
+//! assert!(out.curves[0].bspline.max_deviation <= 0.1);
+//! ```
 
 pub mod bspline;
+pub mod cli;
+pub mod export;
 pub mod geom;
 pub mod lac;
+pub mod pipeline;
+pub mod prepare;
 pub mod split;
 pub mod stroke;

@@ -1,0 +1,568 @@
+//! Fitting a cubic B-spline to samples within a distance tolerance.
+
+use crate::geom::Point;
+
+use super::curve::{BSpline, DEGREE};
+use super::lsq::{BandedLsq, LsqError};
+use super::project::{Foot, Pieces};
+
+/// How each sample is weighted in the least-squares objective.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum Weighting {
+    /// Each sample weighs the arc length it stands for (half the distance to each neighbour), so
+    /// the objective approximates ∫‖C − stroke‖² ds and does not depend on the pen's speed. Samples
+    /// piled up where the pen dwells weigh almost nothing and cannot pull the end tangents.
+    #[default]
+    ArcLength,
+    /// Every sample weighs the same (the seed paper's objective).
+    Uniform,
+}
+
+/// Options for [`fit_bspline`].
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct FitOptions {
+    /// Largest allowed distance from any sample to the curve, in the samples' units. No default
+    /// here: it depends on the units (see [`crate::stroke::Units::default_tolerance`]).
+    pub tolerance: f64,
+    /// Upper bound on the number of segments (knot spans). Default 4096; the data also bound it
+    /// (at most one control point per sample).
+    pub max_segments: usize,
+    /// Parameter-correction passes per least-squares solve: each sample's parameter is moved to
+    /// its foot point and the curve solved again (Hoschek's intrinsic parameterisation).
+    /// Default 3: the first pass removes most of the chord-length error, later ones polish.
+    pub parameter_corrections: usize,
+    /// Sample weighting. Default [`Weighting::ArcLength`].
+    pub weighting: Weighting,
+    /// Fairing. Default true: once the fewest segments are known, the curve is refitted with
+    /// [`FAIRING_SEGMENT_FACTOR`] times as many and the largest penalty on ∫‖C‴‖² du that keeps
+    /// every sample within the tolerance. A plain least-squares spline with just enough segments
+    /// meets the tolerance with a curvature that wobbles around the drawn one, and every wobble
+    /// is a spurious curvature extremum; the fairest curve within the tolerance has only the
+    /// extrema the data demand.
+    pub fair: bool,
+}
+
+/// Segment multiplier for the fairing pass: the extra freedom is what the penalty trades for
+/// smoothness. 2 leaves the tolerance reachable with a strong penalty on every fixture.
+pub const FAIRING_SEGMENT_FACTOR: usize = 2;
+
+/// Range of the dimensionless fairing weight λ (the penalty is λ·m·∫‖C‴‖² du for m samples of
+/// mean weight 1, both terms scaling as length², so λ is invariant under scaling): 1e-14 is
+/// negligible against any data term, 1e-2 flattens any stroke beyond a tolerance.
+const FAIRING_LAMBDA_RANGE: (f64, f64) = (1e-14, 1e-2);
+
+/// Bisection steps on log λ: 12 halvings of 12 decades leave a factor of about 2 in λ, finer
+/// than any visible change in the curve.
+const FAIRING_STEPS: usize = 12;
+
+impl FitOptions {
+    /// Options with this tolerance and every other field at its default.
+    pub const fn new(tolerance: f64) -> Self {
+        FitOptions {
+            tolerance,
+            max_segments: 4096,
+            parameter_corrections: 3,
+            weighting: Weighting::ArcLength,
+            fair: true,
+        }
+    }
+
+    /// Sets [`FitOptions::fair`].
+    pub const fn with_fairing(mut self, fair: bool) -> Self {
+        self.fair = fair;
+        self
+    }
+
+    /// Sets [`FitOptions::max_segments`].
+    pub const fn with_max_segments(mut self, n: usize) -> Self {
+        self.max_segments = n;
+        self
+    }
+
+    /// Sets [`FitOptions::parameter_corrections`].
+    pub const fn with_parameter_corrections(mut self, n: usize) -> Self {
+        self.parameter_corrections = n;
+        self
+    }
+
+    /// Sets [`FitOptions::weighting`].
+    pub const fn with_weighting(mut self, w: Weighting) -> Self {
+        self.weighting = w;
+        self
+    }
+}
+
+/// A fitted B-spline and how well it fits.
+#[derive(Clone, Debug)]
+pub struct BSplineFit {
+    /// The curve, on the parameter domain [0, 1].
+    pub curve: BSpline,
+    /// Each sample's foot-point parameter.
+    pub params: Vec<f64>,
+    /// Each sample's distance to the curve (foot-point distance to the whole curve).
+    pub distances: Vec<f64>,
+    /// The largest of `distances`.
+    pub max_deviation: f64,
+    /// Root mean square of `distances`.
+    pub rms_deviation: f64,
+    /// Whether `max_deviation ≤ tolerance`. False only when even the largest allowed segment
+    /// count could not reach the tolerance; the curve is then the best one found.
+    pub within_tolerance: bool,
+    /// How many segment counts the search tried.
+    pub attempts: usize,
+}
+
+/// Why a fit could not be made.
+#[derive(Clone, Debug, PartialEq, thiserror::Error)]
+pub enum FitError {
+    /// Fewer than two distinct points.
+    #[error("need at least 2 distinct points, got {0}")]
+    TooFewPoints(usize),
+    /// The tolerance is not a positive finite number.
+    #[error("the tolerance must be a positive finite number, got {0}")]
+    BadTolerance(f64),
+    /// The least-squares system could not be solved.
+    #[error(transparent)]
+    Lsq(#[from] LsqError),
+}
+
+/// Fits a clamped cubic B-spline to `points` so that every point lies within
+/// `options.tolerance` of the curve.
+///
+/// - **Parameterisation**: chord length, then [`FitOptions::parameter_corrections`] passes of
+///   foot-point correction. Chord length is the natural first guess for dense, evenly sampled pen
+///   data; the correction makes the final parameters intrinsic (each sample's own foot point), so
+///   the chord-vs-centripetal choice matters little in the result.
+/// - **Knots**: averages of the sample parameters spread evenly over the samples (see
+///   `averaged_knots`; de Boor's averaging at the interpolation limit): every span holds data,
+///   so the system is never singular. Should a span still be short of data, fairing rows decide
+///   it (see [`super::lsq::FAIRING_WEIGHT`]).
+/// - **Segment count**: one segment first, then doubling until the tolerance holds, then
+///   bisection between the last failing and the first passing count. The deviation is not
+///   strictly monotonic in the count, so the result is the fewest segments the bisection saw
+///   pass, not always the global fewest: a deliberate trade of O(log n) solves for O(n).
+/// - Fewer than four distinct points are too few for a cubic: they become a straight line (the
+///   least-squares line, as a cubic with evenly spaced collinear control points).
+///
+/// `points` must be finite with consecutive duplicates already merged (as
+/// [`crate::pipeline`] does).
+pub fn fit_bspline(points: &[Point], options: &FitOptions) -> Result<BSplineFit, FitError> {
+    if !(options.tolerance.is_finite() && options.tolerance > 0.0) {
+        return Err(FitError::BadTolerance(options.tolerance));
+    }
+    // Work in a frame centred on the points' bounding box and scaled to unit diagonal: the
+    // fairness rows carry coefficients of order 1/Δu³, and with raw coordinates far from the
+    // origin (a stroke at x ≈ 10⁴) the translation-invariant C‴ = Σ N‴ⱼPⱼ would be computed by
+    // cancelling huge terms. In the unit frame the fit is invariant under translation and scale
+    // to rounding.
+    let (lo, hi) = points.iter().fold(
+        (
+            Point::new(f64::INFINITY, f64::INFINITY),
+            Point::new(f64::NEG_INFINITY, f64::NEG_INFINITY),
+        ),
+        |(lo, hi), p| {
+            (
+                Point::new(lo.x.min(p.x), lo.y.min(p.y)),
+                Point::new(hi.x.max(p.x), hi.y.max(p.y)),
+            )
+        },
+    );
+    let size = lo.distance(hi);
+    if !(size > 0.0 && size.is_finite()) {
+        return Err(FitError::TooFewPoints(1));
+    }
+    let centre = lo.midpoint(hi);
+    let unit: Vec<Point> = points
+        .iter()
+        .map(|p| ((*p - centre) / size).to_point())
+        .collect();
+    let unit_options = FitOptions {
+        tolerance: options.tolerance / size,
+        ..*options
+    };
+    let fit = fit_unit(&unit, &unit_options)?;
+    Ok(from_unit(fit, centre, size, options.tolerance))
+}
+
+/// Maps a fit made in the unit frame back to the caller's coordinates.
+fn from_unit(fit: BSplineFit, centre: Point, size: f64, tolerance: f64) -> BSplineFit {
+    let control_points = fit
+        .curve
+        .control_points()
+        .iter()
+        .map(|p| centre + p.to_vec2() * size)
+        .collect();
+    let knots = fit.curve.knots().to_vec();
+    let curve = BSpline::new(knots, control_points).unwrap_or(fit.curve);
+    let distances: Vec<f64> = fit.distances.iter().map(|d| d * size).collect();
+    let max_deviation = fit.max_deviation * size;
+    BSplineFit {
+        curve,
+        params: fit.params,
+        distances,
+        max_deviation,
+        rms_deviation: fit.rms_deviation * size,
+        within_tolerance: max_deviation <= tolerance,
+        attempts: fit.attempts,
+    }
+}
+
+/// [`fit_bspline`] in the unit frame.
+fn fit_unit(points: &[Point], options: &FitOptions) -> Result<BSplineFit, FitError> {
+    let chord = chord_params(points);
+    let distinct = 1 + points.windows(2).filter(|w| w[0] != w[1]).count();
+    let Some(chord) = chord.filter(|_| distinct >= 2) else {
+        return Err(FitError::TooFewPoints(distinct));
+    };
+    if distinct < DEGREE + 1 {
+        return Ok(fit_line(points, options.tolerance));
+    }
+    let weights = weights(points, options.weighting);
+    let max_segments = options.max_segments.clamp(1, distinct - DEGREE);
+
+    let mut attempts = 0;
+    let mut attempt = |segments: usize| -> Result<BSplineFit, FitError> {
+        attempts += 1;
+        fit_segments(points, &weights, &chord, segments, options)
+    };
+    // Doubling.
+    let mut failed = 0;
+    let mut n = 1;
+    let mut passed = loop {
+        let fit = attempt(n)?;
+        if fit.within_tolerance {
+            break fit;
+        }
+        if n >= max_segments {
+            let mut fit = fit;
+            fit.attempts = attempts;
+            return Ok(exact(fit, points, options.tolerance));
+        }
+        failed = n;
+        n = (2 * n).min(max_segments);
+    };
+    // Bisection on (failed, n].
+    let mut hi = n;
+    while hi - failed > 1 {
+        let mid = failed + (hi - failed) / 2;
+        let fit = attempt(mid)?;
+        if fit.within_tolerance {
+            hi = mid;
+            passed = fit;
+        } else {
+            failed = mid;
+        }
+    }
+    passed.attempts = attempts;
+    if options.fair {
+        let segments = (hi * FAIRING_SEGMENT_FACTOR).min(max_segments);
+        passed = fair(points, &weights, &chord, segments, options, passed)?;
+    }
+    Ok(exact(passed, points, options.tolerance))
+}
+
+/// The fairest fit with `segments` segments that stays within the tolerance.
+///
+/// The plain least-squares fit with `segments` segments (parameter-corrected) fixes the knots and
+/// the sample parameters; then bisection on log λ finds the largest fairing weight whose
+/// penalised solve keeps every sample's local foot-point distance within the tolerance. With
+/// parameters and knots held, each trial is one linear solve, so the search is well posed:
+/// re-running parameter correction inside it would let a heavily penalised trial drift and make
+/// the pass/fail boundary depend on rounding. `fallback` (a passing fit) is kept when no
+/// penalised fit passes.
+fn fair(
+    points: &[Point],
+    weights: &[f64],
+    chord: &[f64],
+    segments: usize,
+    options: &FitOptions,
+    fallback: BSplineFit,
+) -> Result<BSplineFit, FitError> {
+    let attempts = fallback.attempts + 1 + FAIRING_STEPS;
+    let plain = fit_segments(points, weights, chord, segments, options)?;
+    if !plain.within_tolerance {
+        return Ok(BSplineFit {
+            attempts,
+            ..fallback
+        });
+    }
+    let knots = plain.curve.knots().to_vec();
+    let params = plain.params.clone();
+    let m = points.len() as f64;
+    let (mut lo, mut hi) = (FAIRING_LAMBDA_RANGE.0.ln(), FAIRING_LAMBDA_RANGE.1.ln());
+    let mut best = plain;
+    for _ in 0..FAIRING_STEPS {
+        let mid = 0.5 * (lo + hi);
+        let curve =
+            penalised_least_squares(points, &params, weights, knots.clone(), mid.exp() * m)?;
+        let pieces = Pieces::new(curve.to_beziers());
+        let feet: Vec<Foot> = points
+            .iter()
+            .zip(&params)
+            .map(|(q, &u)| pieces.project_local(*q, u))
+            .collect();
+        let fit = summarise(curve, &feet, options.tolerance);
+        if fit.within_tolerance {
+            best = fit;
+            lo = mid;
+        } else {
+            hi = mid;
+        }
+    }
+    best.attempts = attempts;
+    Ok(best)
+}
+
+/// Replaces the local (Newton) foot points of a fit by true distances to the whole curve. The
+/// search runs on local distances, which are upper bounds: a count that passes with them passes.
+fn exact(fit: BSplineFit, points: &[Point], tolerance: f64) -> BSplineFit {
+    let pieces = Pieces::new(fit.curve.to_beziers());
+    let feet: Vec<Foot> = points
+        .iter()
+        .zip(fit.params.iter().zip(&fit.distances))
+        .map(|(q, (&u, &distance))| pieces.distance(*q, Foot { u, distance }))
+        .collect();
+    let attempts = fit.attempts;
+    let mut out = summarise(fit.curve, &feet, tolerance);
+    out.attempts = attempts;
+    out
+}
+
+/// The weighted least-squares B-spline with the given knots through samples at given
+/// parameters (no search, no parameter correction): the building block of [`fit_bspline`],
+/// exposed for callers that know their parameterisation.
+pub fn least_squares(
+    points: &[Point],
+    params: &[f64],
+    weights: &[f64],
+    knots: Vec<f64>,
+) -> Result<BSpline, FitError> {
+    penalised_least_squares(points, params, weights, knots, 0.0)
+}
+
+/// [`least_squares`] plus the fairness term `jerk_weight · ∫‖C‴‖² du`.
+fn penalised_least_squares(
+    points: &[Point],
+    params: &[f64],
+    weights: &[f64],
+    knots: Vec<f64>,
+    jerk_weight: f64,
+) -> Result<BSpline, FitError> {
+    let n_ctrl = knots.len().saturating_sub(DEGREE + 1);
+    if n_ctrl < DEGREE + 1 || points.len() != params.len() || points.len() != weights.len() {
+        return Err(FitError::TooFewPoints(points.len()));
+    }
+    let mut lsq = BandedLsq::new(&knots);
+    let probe = SpanFinder::new(&knots);
+    for ((q, &u), &w) in points.iter().zip(params).zip(weights) {
+        lsq.add_sample(probe.find(u), u, *q, w);
+    }
+    if jerk_weight > 0.0 {
+        lsq.add_jerk_penalty(jerk_weight);
+    }
+    let mean = weights.iter().sum::<f64>() / weights.len().max(1) as f64;
+    let solution = lsq.solve(mean)?;
+    BSpline::new(knots, solution.control_points)
+        .map_err(|_| FitError::Lsq(LsqError::Underdetermined(0)))
+}
+
+/// Least squares with a fixed number of segments, with parameter correction; distances
+/// exact on the final curve.
+fn fit_segments(
+    points: &[Point],
+    weights: &[f64],
+    chord: &[f64],
+    segments: usize,
+    options: &FitOptions,
+) -> Result<BSplineFit, FitError> {
+    fit_segments_penalised(points, weights, chord, segments, 0.0, options)
+}
+
+/// [`fit_segments`] with a fairness weight.
+fn fit_segments_penalised(
+    points: &[Point],
+    weights: &[f64],
+    chord: &[f64],
+    segments: usize,
+    jerk_weight: f64,
+    options: &FitOptions,
+) -> Result<BSplineFit, FitError> {
+    let knots = averaged_knots(chord, segments);
+    let mut params = chord.to_vec();
+    let mut feet: Vec<Foot> = Vec::with_capacity(points.len());
+    let mut curve;
+    let mut pass = 0;
+    loop {
+        curve = penalised_least_squares(points, &params, weights, knots.clone(), jerk_weight)?;
+        let pieces = Pieces::new(curve.to_beziers());
+        feet.clear();
+        feet.extend(
+            points
+                .iter()
+                .zip(&params)
+                .map(|(q, &u)| pieces.project_local(*q, u)),
+        );
+        if pass == options.parameter_corrections {
+            break;
+        }
+        for (u, f) in params.iter_mut().zip(&feet) {
+            *u = f.u;
+        }
+        pass += 1;
+    }
+    Ok(summarise(curve, &feet, options.tolerance))
+}
+
+fn summarise(curve: BSpline, feet: &[Foot], tolerance: f64) -> BSplineFit {
+    let distances: Vec<f64> = feet.iter().map(|f| f.distance).collect();
+    let max_deviation = distances.iter().copied().fold(0.0, f64::max);
+    let rms_deviation =
+        (distances.iter().map(|d| d * d).sum::<f64>() / distances.len().max(1) as f64).sqrt();
+    BSplineFit {
+        curve,
+        params: feet.iter().map(|f| f.u).collect(),
+        distances,
+        max_deviation,
+        rms_deviation,
+        within_tolerance: max_deviation <= tolerance,
+        attempts: 1,
+    }
+}
+
+/// Finds knot spans for parameters (the same rule as [`BSpline::find_span`] without a curve).
+struct SpanFinder<'a> {
+    knots: &'a [f64],
+    last: usize,
+}
+
+impl<'a> SpanFinder<'a> {
+    fn new(knots: &'a [f64]) -> Self {
+        let n = knots.len() - DEGREE - 1;
+        let mut last = n - 1;
+        while last > DEGREE && knots[last] >= knots[last + 1] {
+            last -= 1;
+        }
+        SpanFinder { knots, last }
+    }
+
+    fn find(&self, u: f64) -> usize {
+        let n = self.knots.len() - DEGREE - 1;
+        if u >= self.knots[n] {
+            return self.last;
+        }
+        let idx = self.knots[DEGREE..n].partition_point(|&k| k <= u);
+        (DEGREE + idx.saturating_sub(1)).min(self.last)
+    }
+}
+
+/// The clamped knot vector for `segments` spans placed by averaging the parameters `u`.
+///
+/// Interior knot `j` (1 ≤ j < segments) is the mean of the parameter at the three (fractional)
+/// sample indices `cⱼ − 1, cⱼ, cⱼ + 1` with `cⱼ = 1 + j·(m − 3)/segments` (linear interpolation
+/// between samples). At the largest count, `segments = m − 3`, this is de Boor's averaging for
+/// cubic interpolation, `t = (u_j + u_{j+1} + u_{j+2})/3`, which keeps the system well
+/// conditioned; for fewer segments it spreads the knots evenly over the samples, so every span
+/// holds data (Schoenberg–Whitney) and knots gather where the pen slowed down, which on
+/// hand-drawn strokes is where the curvature is high. Needs `m ≥ segments + 3`.
+fn averaged_knots(u: &[f64], segments: usize) -> Vec<f64> {
+    let m = u.len();
+    let at = |x: f64| -> f64 {
+        let x = x.clamp(0.0, (m - 1) as f64);
+        let i = (x.floor() as usize).min(m - 2);
+        let a = x - i as f64;
+        (1.0 - a) * u[i] + a * u[i + 1]
+    };
+    let step = (m - 3) as f64 / segments as f64;
+    let mut knots = vec![0.0; DEGREE + 1];
+    for j in 1..segments {
+        let c = 1.0 + j as f64 * step;
+        knots.push((at(c - 1.0) + at(c) + at(c + 1.0)) / 3.0);
+    }
+    knots.extend([1.0; DEGREE + 1]);
+    knots
+}
+
+/// Normalised cumulative chord length, or `None` when the points have no extent.
+fn chord_params(points: &[Point]) -> Option<Vec<f64>> {
+    let mut acc = 0.0;
+    let mut u = Vec::with_capacity(points.len());
+    u.push(0.0);
+    for w in points.windows(2) {
+        acc += w[0].distance(w[1]);
+        u.push(acc);
+    }
+    if !(acc > 0.0 && acc.is_finite()) {
+        return None;
+    }
+    for x in &mut u {
+        *x /= acc;
+    }
+    if let Some(last) = u.last_mut() {
+        *last = 1.0;
+    }
+    Some(u)
+}
+
+/// Least-squares weights (see [`Weighting`]), normalised to mean 1.
+fn weights(points: &[Point], weighting: Weighting) -> Vec<f64> {
+    let m = points.len();
+    if weighting == Weighting::Uniform || m < 2 {
+        return vec![1.0; m];
+    }
+    let gaps: Vec<f64> = points.windows(2).map(|w| w[0].distance(w[1])).collect();
+    let mut w: Vec<f64> = (0..m)
+        .map(|i| {
+            let before = if i > 0 { gaps[i - 1] } else { 0.0 };
+            let after = gaps.get(i).copied().unwrap_or(0.0);
+            0.5 * (before + after)
+        })
+        .collect();
+    let mean = w.iter().sum::<f64>() / m as f64;
+    // A floor keeps every row in the system (a zero weight would drop the sample's row), far
+    // below any weight that could matter.
+    let floor = MIN_RELATIVE_WEIGHT * mean;
+    for x in &mut w {
+        *x = (*x / mean).max(floor / mean);
+    }
+    w
+}
+
+/// Smallest weight relative to the mean (see [`weights`]).
+const MIN_RELATIVE_WEIGHT: f64 = 1e-6;
+
+/// The least-squares line through a handful of points, as a one-segment cubic.
+fn fit_line(points: &[Point], tolerance: f64) -> BSplineFit {
+    let n = points.len() as f64;
+    let c = points.iter().fold(Point::ZERO, |a, p| a + p.to_vec2() / n);
+    let (mut sxx, mut sxy, mut syy) = (0.0, 0.0, 0.0);
+    for p in points {
+        let d = *p - c;
+        sxx += d.x * d.x;
+        sxy += d.x * d.y;
+        syy += d.y * d.y;
+    }
+    // Principal axis of the scatter matrix.
+    let angle = 0.5 * (2.0 * sxy).atan2(sxx - syy);
+    let dir = kurbo::Vec2::new(angle.cos(), angle.sin());
+    let ts: Vec<f64> = points.iter().map(|p| (*p - c).dot(dir)).collect();
+    let (t0, t1) = (ts[0], ts[ts.len() - 1]);
+    let (a, b) = (c + dir * t0, c + dir * t1);
+    let control_points = vec![a, a.lerp(b, 1.0 / 3.0), a.lerp(b, 2.0 / 3.0), b];
+    let curve = match BSpline::new(BSpline::uniform_knots(1), control_points) {
+        Ok(c) => c,
+        // Unreachable for finite input (validated at the boundary); keep a clean fallback.
+        Err(_) => return fit_line(&points[..1.min(points.len())], tolerance),
+    };
+    let pieces = Pieces::new(curve.to_beziers());
+    let span = t1 - t0;
+    let feet: Vec<Foot> = points
+        .iter()
+        .zip(&ts)
+        .map(|(q, &t)| {
+            let guess = if span != 0.0 { (t - t0) / span } else { 0.0 };
+            let local = pieces.project_local(*q, guess.clamp(0.0, 1.0));
+            pieces.distance(*q, local)
+        })
+        .collect();
+    summarise(curve, &feet, tolerance)
+}

@@ -1,0 +1,335 @@
+//! The `kansei` command line: argument parsing and the commands, kept in the library so that
+//! `main.rs` is a few lines and the commands are testable.
+
+use std::path::{Path, PathBuf};
+use std::time::Instant;
+
+use clap::{Args, Parser, Subcommand};
+
+use crate::export::CurveFile;
+use crate::pipeline::{PipelineOptions, fit_file};
+use crate::stroke::{StrokeError, StrokeFile};
+
+/// kansei: pen strokes to log-aesthetic curves.
+#[derive(Debug, Parser)]
+#[command(name = "kansei", version, about)]
+pub struct Cli {
+    /// The command.
+    #[command(subcommand)]
+    pub command: Command,
+}
+
+/// The commands.
+#[derive(Debug, Subcommand)]
+pub enum Command {
+    /// Fit strokes: B-spline, split at inflections and curvature extrema; writes kansei-curve
+    /// JSON.
+    Fit(FitArgs),
+    /// Time the B-spline and split stages over stroke files.
+    Bench(BenchArgs),
+}
+
+/// Options shared by `fit` and `bench`.
+#[derive(Debug, Args, Clone)]
+pub struct FitSettings {
+    /// Largest distance from any sample to the curve, in the file's units
+    /// [default: mm 0.1, px 0.5, device 20].
+    #[arg(long)]
+    pub tolerance: Option<f64>,
+    /// Turning angle (degrees) above which the stroke is cut at a corner.
+    #[arg(long, default_value_t = 70.0)]
+    pub corner_angle: f64,
+    /// Keep the pen's landing and lifting hooks instead of dropping them.
+    #[arg(long)]
+    pub keep_hooks: bool,
+}
+
+impl FitSettings {
+    fn options(&self) -> PipelineOptions {
+        PipelineOptions {
+            tolerance: self.tolerance,
+            corner_angle: self.corner_angle,
+            keep_hooks: self.keep_hooks,
+            ..PipelineOptions::default()
+        }
+    }
+}
+
+/// `kansei fit`.
+#[derive(Debug, Args)]
+pub struct FitArgs {
+    /// kansei-stroke JSON files.
+    #[arg(required = true)]
+    pub inputs: Vec<PathBuf>,
+    /// Write kansei-curve JSON here instead of stdout. With several inputs, a directory that
+    /// receives `<input stem>.curve.json` for each.
+    #[arg(long)]
+    pub json: Option<PathBuf>,
+    /// Fitting settings.
+    #[command(flatten)]
+    pub settings: FitSettings,
+}
+
+/// `kansei bench`.
+#[derive(Debug, Args)]
+pub struct BenchArgs {
+    /// kansei-stroke JSON files (default: every file in fixtures/strokes).
+    pub inputs: Vec<PathBuf>,
+    /// Tolerances to measure, in each file's units (repeat the flag) [default: the unit's
+    /// default and twice it].
+    #[arg(long = "tolerance")]
+    pub tolerances: Vec<f64>,
+    /// Timed repetitions per stroke; the median is reported.
+    #[arg(long, default_value_t = 15)]
+    pub repeat: usize,
+}
+
+/// A command's failure, naming the file it concerns.
+#[derive(Debug, thiserror::Error)]
+pub enum CliError {
+    /// A file could not be read or written.
+    #[error("{path}: {source}")]
+    Io {
+        /// The file.
+        path: PathBuf,
+        /// The cause.
+        source: std::io::Error,
+    },
+    /// A stroke file was refused.
+    #[error("{path}: {source}")]
+    Stroke {
+        /// The file.
+        path: PathBuf,
+        /// The cause.
+        source: StrokeError,
+    },
+    /// The pipeline failed.
+    #[error("{path}: {source}")]
+    Pipeline {
+        /// The file.
+        path: PathBuf,
+        /// The cause.
+        source: crate::pipeline::PipelineError,
+    },
+    /// Bad arguments.
+    #[error("{0}")]
+    Usage(String),
+}
+
+/// Runs a parsed command line, writing results to `out`.
+pub fn run(cli: Cli, out: &mut dyn std::io::Write) -> Result<(), CliError> {
+    match cli.command {
+        Command::Fit(args) => fit(&args, out),
+        Command::Bench(args) => bench(&args, out),
+    }
+}
+
+/// Reads and validates a stroke file.
+pub fn read_strokes(path: &Path) -> Result<StrokeFile, CliError> {
+    let text = std::fs::read_to_string(path).map_err(|source| CliError::Io {
+        path: path.to_owned(),
+        source,
+    })?;
+    StrokeFile::from_json(&text).map_err(|source| CliError::Stroke {
+        path: path.to_owned(),
+        source,
+    })
+}
+
+fn fit(args: &FitArgs, out: &mut dyn std::io::Write) -> Result<(), CliError> {
+    let options = args.settings.options();
+    if let Some(t) = options.tolerance
+        && !(t.is_finite() && t > 0.0)
+    {
+        return Err(CliError::Usage(format!(
+            "--tolerance must be a positive number, got {t}"
+        )));
+    }
+    let several = args.inputs.len() > 1;
+    if let Some(dir) = args.json.as_ref().filter(|_| several) {
+        std::fs::create_dir_all(dir).map_err(|source| CliError::Io {
+            path: dir.clone(),
+            source,
+        })?;
+    }
+    for input in &args.inputs {
+        let file = read_strokes(input)?;
+        let output = fit_file(&file, &options).map_err(|source| CliError::Pipeline {
+            path: input.clone(),
+            source,
+        })?;
+        let doc = CurveFile::from_output(&output);
+        for c in output.curves.iter().filter(|c| !c.bspline.within_tolerance) {
+            eprintln!(
+                "warning: {}: stroke {}, samples {}..={}: best fit deviates {:.4} > tolerance {}",
+                input.display(),
+                c.stroke,
+                c.samples.0,
+                c.samples.1,
+                c.bspline.max_deviation,
+                output.tolerance
+            );
+        }
+        match &args.json {
+            None => {
+                let text = if several {
+                    serde_json::to_string(&doc).unwrap_or_default()
+                } else {
+                    doc.to_json()
+                };
+                writeln!(out, "{text}").map_err(|source| CliError::Io {
+                    path: "<stdout>".into(),
+                    source,
+                })?;
+            }
+            Some(path) => {
+                let target = if several {
+                    let stem = input
+                        .file_stem()
+                        .map(|s| s.to_string_lossy())
+                        .unwrap_or_default();
+                    path.join(format!("{stem}.curve.json"))
+                } else {
+                    path.clone()
+                };
+                write_atomic(&target, doc.to_json().as_bytes())?;
+            }
+        }
+    }
+    Ok(())
+}
+
+/// Writes through a temporary file and a rename, so a reader never sees half a file.
+pub fn write_atomic(path: &Path, bytes: &[u8]) -> Result<(), CliError> {
+    let io = |source| CliError::Io {
+        path: path.to_owned(),
+        source,
+    };
+    if let Some(dir) = path.parent().filter(|d| !d.as_os_str().is_empty()) {
+        std::fs::create_dir_all(dir).map_err(io)?;
+    }
+    let mut tmp = path.as_os_str().to_owned();
+    tmp.push(".tmp");
+    let tmp = PathBuf::from(tmp);
+    std::fs::write(&tmp, bytes).map_err(|source| CliError::Io {
+        path: tmp.clone(),
+        source,
+    })?;
+    std::fs::rename(&tmp, path).map_err(io)
+}
+
+fn bench(args: &BenchArgs, out: &mut dyn std::io::Write) -> Result<(), CliError> {
+    let inputs = if args.inputs.is_empty() {
+        let dir = Path::new("fixtures/strokes");
+        let mut v: Vec<PathBuf> = std::fs::read_dir(dir)
+            .map_err(|source| CliError::Io {
+                path: dir.to_owned(),
+                source,
+            })?
+            .filter_map(|e| e.ok().map(|e| e.path()))
+            .filter(|p| p.extension().is_some_and(|e| e == "json"))
+            .collect();
+        v.sort();
+        v
+    } else {
+        args.inputs.clone()
+    };
+    let files: Vec<(PathBuf, StrokeFile)> = inputs
+        .iter()
+        .map(|p| read_strokes(p).map(|f| (p.clone(), f)))
+        .collect::<Result<_, _>>()?;
+    let repeat = args.repeat.max(1);
+    let io = |source| CliError::Io {
+        path: "<stdout>".into(),
+        source,
+    };
+    writeln!(
+        out,
+        "kansei bench: B-spline + split stages, median of {repeat} runs per stroke"
+    )
+    .map_err(io)?;
+    writeln!(
+        out,
+        "{:>10} {:>8} {:>9} {:>12} {:>12} {:>12} {:>10} {:>10}",
+        "tol×unit",
+        "strokes",
+        "samples",
+        "med µs/strk",
+        "med ns/smpl",
+        "total ms",
+        "seg/strk",
+        "spans/strk"
+    )
+    .map_err(io)?;
+    let factors: Vec<Option<f64>> = if args.tolerances.is_empty() {
+        vec![None, Some(2.0)]
+    } else {
+        args.tolerances.iter().map(|&t| Some(t)).collect()
+    };
+    for factor in factors {
+        let mut per_stroke = Vec::new();
+        let mut per_sample = Vec::new();
+        let (mut segments, mut spans, mut strokes, mut samples) = (0usize, 0usize, 0usize, 0usize);
+        let mut total = 0.0;
+        for (path, file) in &files {
+            let base = file.units.default_tolerance();
+            let tolerance = match (factor, args.tolerances.is_empty()) {
+                (Some(f), true) => base * f,
+                (Some(t), false) => t,
+                (None, _) => base,
+            };
+            let options = PipelineOptions::default().with_tolerance(tolerance);
+            for (i, stroke) in file.strokes.iter().enumerate() {
+                let mut times = Vec::with_capacity(repeat);
+                let mut last = None;
+                for _ in 0..repeat {
+                    let start = Instant::now();
+                    let r = crate::pipeline::fit_stroke(stroke, i, tolerance, &options);
+                    times.push(start.elapsed().as_secs_f64());
+                    last = Some(r);
+                }
+                let fits = match last {
+                    Some(r) => r.map_err(|source| CliError::Pipeline {
+                        path: path.clone(),
+                        source,
+                    })?,
+                    None => Vec::new(),
+                };
+                times.sort_by(f64::total_cmp);
+                let median = times[times.len() / 2];
+                total += median;
+                per_stroke.push(median);
+                per_sample.push(median / stroke.samples.len().max(1) as f64);
+                strokes += 1;
+                samples += stroke.samples.len();
+                segments += fits
+                    .iter()
+                    .map(|f| f.bspline.curve.segment_count())
+                    .sum::<usize>();
+                spans += fits.iter().map(|f| f.spans.spans.len()).sum::<usize>();
+            }
+        }
+        per_stroke.sort_by(f64::total_cmp);
+        per_sample.sort_by(f64::total_cmp);
+        let med = |v: &[f64]| v.get(v.len() / 2).copied().unwrap_or(0.0);
+        let label = match (factor, args.tolerances.is_empty()) {
+            (None, _) => "1×default".to_owned(),
+            (Some(f), true) => format!("{f}×default"),
+            (Some(t), false) => format!("{t}"),
+        };
+        writeln!(
+            out,
+            "{:>10} {:>8} {:>9} {:>12.1} {:>12.0} {:>12.2} {:>10.2} {:>10.2}",
+            label,
+            strokes,
+            samples,
+            med(&per_stroke) * 1e6,
+            med(&per_sample) * 1e9,
+            total * 1e3,
+            segments as f64 / strokes.max(1) as f64,
+            spans as f64 / strokes.max(1) as f64,
+        )
+        .map_err(io)?;
+    }
+    Ok(())
+}

@@ -1,0 +1,191 @@
+//! The one composition of the stages, used by the CLI, the tests and the benchmarks.
+//!
+//! stroke → [`prepare`](crate::prepare) (duplicates, corners, hooks) → per piece
+//! [`fit_bspline`] → [`split_spans`] → [`CurveFit`].
+
+use crate::bspline::{BSplineFit, FitError, FitOptions, fit_bspline};
+use crate::prepare::{CornerOptions, PieceEnd, prepare};
+use crate::split::{Spans, SplitError, SplitKind, SplitOptions, split_spans};
+use crate::stroke::{Stroke, StrokeFile, Units};
+
+/// Options for the whole pipeline.
+#[derive(Clone, Debug, PartialEq)]
+pub struct PipelineOptions {
+    /// Fitting tolerance in the stroke's units. Default `None`: the unit's default
+    /// ([`Units::default_tolerance`]).
+    pub tolerance: Option<f64>,
+    /// Corner turning angle, degrees. Default 70 (see [`CornerOptions`]).
+    pub corner_angle: f64,
+    /// Keep the pen's landing and lifting hooks. Default false.
+    pub keep_hooks: bool,
+    /// Upper bound on B-spline segments per piece. Default 4096.
+    pub max_segments: usize,
+    /// Options of the split stage (defaults: [`SplitOptions::default`]).
+    pub split: SplitOptions,
+}
+
+impl Default for PipelineOptions {
+    fn default() -> Self {
+        PipelineOptions {
+            tolerance: None,
+            corner_angle: 70.0,
+            keep_hooks: false,
+            max_segments: 4096,
+            split: SplitOptions::default(),
+        }
+    }
+}
+
+impl PipelineOptions {
+    /// The tolerance for strokes in `units`.
+    pub fn tolerance_for(&self, units: Units) -> f64 {
+        self.tolerance.unwrap_or(units.default_tolerance())
+    }
+
+    /// Sets [`PipelineOptions::tolerance`].
+    pub fn with_tolerance(mut self, tolerance: f64) -> Self {
+        self.tolerance = Some(tolerance);
+        self
+    }
+
+    fn corner_options(&self, tolerance: f64) -> CornerOptions {
+        CornerOptions::for_tolerance(tolerance)
+            .with_corner_angle(self.corner_angle)
+            .with_drop_hooks(!self.keep_hooks)
+    }
+}
+
+/// One fitted piece of a stroke.
+#[derive(Clone, Debug)]
+pub struct CurveFit {
+    /// Index of the stroke.
+    pub stroke: usize,
+    /// Inclusive range of original sample indices represented.
+    pub samples: (usize, usize),
+    /// The B-spline fit (its distances cover every represented sample: merged duplicates share
+    /// their representative's position).
+    pub bspline: BSplineFit,
+    /// Spans of monotonic curvature, with their split points. The first and last split are
+    /// `start`/`end`, or `corner` where the piece meets a neighbour at a corner.
+    pub spans: Spans,
+}
+
+/// The pipeline's result for a file.
+#[derive(Clone, Debug)]
+pub struct FitOutput {
+    /// Units of the input.
+    pub units: Units,
+    /// Tolerance used.
+    pub tolerance: f64,
+    /// All pieces of all strokes, in order.
+    pub curves: Vec<CurveFit>,
+}
+
+/// Why the pipeline failed on a stroke.
+#[derive(Debug, thiserror::Error)]
+pub enum PipelineError {
+    /// The tolerance is not a positive finite number.
+    #[error("the tolerance must be a positive finite number, got {0}")]
+    BadTolerance(f64),
+    /// B-spline fitting failed.
+    #[error("stroke {stroke}, samples {first}..={last}: {source}")]
+    Fit {
+        /// Stroke index.
+        stroke: usize,
+        /// First sample of the piece.
+        first: usize,
+        /// Last sample of the piece.
+        last: usize,
+        /// The cause.
+        source: FitError,
+    },
+    /// Splitting failed.
+    #[error("stroke {stroke}, samples {first}..={last}: {source}")]
+    Split {
+        /// Stroke index.
+        stroke: usize,
+        /// First sample of the piece.
+        first: usize,
+        /// Last sample of the piece.
+        last: usize,
+        /// The cause.
+        source: SplitError,
+    },
+}
+
+/// Runs the pipeline on one (validated) stroke.
+pub fn fit_stroke(
+    stroke: &Stroke,
+    index: usize,
+    tolerance: f64,
+    options: &PipelineOptions,
+) -> Result<Vec<CurveFit>, PipelineError> {
+    if !(tolerance.is_finite() && tolerance > 0.0) {
+        return Err(PipelineError::BadTolerance(tolerance));
+    }
+    let fit_options = FitOptions::new(tolerance).with_max_segments(options.max_segments);
+    let pieces = prepare(stroke, &options.corner_options(tolerance));
+    pieces
+        .iter()
+        .map(|piece| {
+            let (first, last) = piece.samples;
+            let bspline =
+                fit_bspline(&piece.points, &fit_options).map_err(|source| PipelineError::Fit {
+                    stroke: index,
+                    first,
+                    last,
+                    source,
+                })?;
+            let mut spans =
+                split_spans(&bspline.curve.to_beziers(), &options.split).map_err(|source| {
+                    PipelineError::Split {
+                        stroke: index,
+                        first,
+                        last,
+                        source,
+                    }
+                })?;
+            mark_corners(&mut spans, piece.start, piece.end);
+            Ok(CurveFit {
+                stroke: index,
+                samples: piece.samples,
+                bspline,
+                spans,
+            })
+        })
+        .collect()
+}
+
+/// Relabels a piece's first/last split as `corner` where it meets a neighbour at a corner.
+fn mark_corners(spans: &mut Spans, start: PieceEnd, end: PieceEnd) {
+    if start == PieceEnd::Corner {
+        if let Some(s) = spans.splits.first_mut() {
+            s.kind = SplitKind::Corner;
+        }
+        if let Some(s) = spans.spans.first_mut() {
+            s.start = SplitKind::Corner;
+        }
+    }
+    if end == PieceEnd::Corner {
+        if let Some(s) = spans.splits.last_mut() {
+            s.kind = SplitKind::Corner;
+        }
+        if let Some(s) = spans.spans.last_mut() {
+            s.end = SplitKind::Corner;
+        }
+    }
+}
+
+/// Runs the pipeline on every stroke of a (validated) file.
+pub fn fit_file(file: &StrokeFile, options: &PipelineOptions) -> Result<FitOutput, PipelineError> {
+    let tolerance = options.tolerance_for(file.units);
+    let mut curves = Vec::new();
+    for (i, stroke) in file.strokes.iter().enumerate() {
+        curves.extend(fit_stroke(stroke, i, tolerance, options)?);
+    }
+    Ok(FitOutput {
+        units: file.units,
+        tolerance,
+        curves,
+    })
+}

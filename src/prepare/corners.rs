@@ -1,0 +1,231 @@
+//! Corners and hooks from the turning angle over a short arc-length window.
+//!
+//! At sample `i` (arc length `sᵢ`), let `B` be the stroke's point at arc length `sᵢ − w` and `F`
+//! the one at `sᵢ + w` (linear interpolation along the polyline, truncated at the stroke's ends).
+//! The turning angle is the angle between `Pᵢ − B` and `F − Pᵢ`. A smooth curve of radius `r`
+//! turns by about `2w/r` over the two windows, so a threshold `φ` flags radii below `2w/φ`; noise
+//! of amplitude σ moves the angle by about `σ/w`, so a window of several tolerances keeps noise
+//! well below the threshold.
+
+use crate::geom::Point;
+
+/// Options for corner and hook detection.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct CornerOptions {
+    /// Turning angle (degrees) above which a sample is a corner. Default 70°: a deliberate change
+    /// of direction; with the default window it flags turns tighter than a radius of about
+    /// 13 tolerances.
+    pub corner_angle: f64,
+    /// Arc-length window `w` on each side, in the stroke's units. Default: 8 × the fitting
+    /// tolerance (set by the pipeline): noise of half a tolerance moves the angle by ~4°.
+    pub window: f64,
+    /// Whether to drop hooks. Default true.
+    pub drop_hooks: bool,
+    /// Fraction of the stroke's arc length at each end where a sharp turn is a hook, not a
+    /// corner. Default 0.08.
+    pub hook_fraction: f64,
+    /// Turning angle (degrees) above which a turn in the end zone is a hook. Default 45°: hooks
+    /// are small, so their turning is spread over a window and measures less than a corner's.
+    pub hook_angle: f64,
+}
+
+impl CornerOptions {
+    /// Defaults for a fitting tolerance `tolerance`.
+    pub const fn for_tolerance(tolerance: f64) -> Self {
+        CornerOptions {
+            corner_angle: 70.0,
+            window: 8.0 * tolerance,
+            drop_hooks: true,
+            hook_fraction: 0.08,
+            hook_angle: 45.0,
+        }
+    }
+
+    /// Sets [`CornerOptions::corner_angle`] (degrees).
+    pub const fn with_corner_angle(mut self, degrees: f64) -> Self {
+        self.corner_angle = degrees;
+        self
+    }
+
+    /// Sets [`CornerOptions::drop_hooks`].
+    pub const fn with_drop_hooks(mut self, drop: bool) -> Self {
+        self.drop_hooks = drop;
+        self
+    }
+
+    /// Sets [`CornerOptions::window`].
+    pub const fn with_window(mut self, window: f64) -> Self {
+        self.window = window;
+        self
+    }
+}
+
+/// Where to cut a stroke.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct Cuts {
+    /// Indices (into the distinct points) of corners, increasing.
+    pub corners: Vec<usize>,
+    /// Index where the stroke starts after a dropped landing hook.
+    pub start_hook: Option<usize>,
+    /// Index where the stroke ends before a dropped lifting hook.
+    pub end_hook: Option<usize>,
+}
+
+/// Two turning angles closer than this (radians) are a tie, and the earlier sample wins: windows
+/// of neighbouring samples on a sparse polyline can measure the same vertex, and the pick must
+/// not depend on rounding (a rotated copy of the stroke must cut at the same sample).
+const ANGLE_TIE: f64 = 1e-9;
+
+/// A truncated window shorter than this fraction of `w` gives no angle: one noisy sample would
+/// decide it.
+const MIN_WINDOW_FRACTION: f64 = 0.25;
+
+/// Turning angle (radians, unsigned) at every point; `None` where a window is too short.
+pub fn turning_angles(points: &[Point], window: f64) -> Vec<Option<f64>> {
+    let n = points.len();
+    let mut s = Vec::with_capacity(n);
+    let mut acc = 0.0;
+    s.push(0.0);
+    for w in points.windows(2) {
+        acc += w[0].distance(w[1]);
+        s.push(acc);
+    }
+    let at = |target: f64| -> Point {
+        let target = target.clamp(0.0, acc);
+        let j = s.partition_point(|&x| x < target).clamp(1, n.max(2) - 1);
+        let (a, b) = (s[j - 1], s[j]);
+        let f = if b > a { (target - a) / (b - a) } else { 1.0 };
+        points[j - 1].lerp(points[j], f)
+    };
+    let min_len = MIN_WINDOW_FRACTION * window;
+    (0..n)
+        .map(|i| {
+            if n < 3 {
+                return None;
+            }
+            let p = points[i];
+            let b = at(s[i] - window);
+            let f = at(s[i] + window);
+            let (v0, v1) = (p - b, f - p);
+            if v0.hypot() < min_len || v1.hypot() < min_len {
+                return None;
+            }
+            Some(v0.cross(v1).atan2(v0.dot(v1)).abs())
+        })
+        .collect()
+}
+
+/// Finds corners and hooks (see the module doc). Each run of consecutive samples above the
+/// threshold is one corner, at the run's sharpest sample.
+pub fn find_corners(points: &[Point], options: &CornerOptions) -> Cuts {
+    let n = points.len();
+    let mut cuts = Cuts::default();
+    if n < 3 || !(options.window > 0.0) {
+        return cuts;
+    }
+    let angles = turning_angles(points, options.window);
+    let mut s = vec![0.0; n];
+    for i in 1..n {
+        s[i] = s[i - 1] + points[i - 1].distance(points[i]);
+    }
+    let total = s[n - 1];
+    let zone = options.hook_fraction * total;
+    let corner = options.corner_angle.to_radians();
+    let hook = options.hook_angle.to_radians();
+
+    // Peaks: sharpest sample of each run above `threshold`.
+    let peaks = |threshold: f64, range: std::ops::Range<usize>| -> Vec<(usize, f64)> {
+        let mut out = Vec::new();
+        let mut best: Option<(usize, f64)> = None;
+        for i in range {
+            match angles[i] {
+                Some(a) if a > threshold => {
+                    if best.is_none_or(|(_, b)| a > b + ANGLE_TIE) {
+                        best = Some((i, a));
+                    }
+                }
+                _ => {
+                    if let Some(b) = best.take() {
+                        out.push(b);
+                    }
+                }
+            }
+        }
+        out.extend(best);
+        out
+    };
+
+    let mut first = 0;
+    let mut last = n - 1;
+    if options.drop_hooks {
+        let start_zone = s.partition_point(|&x| x <= zone);
+        if let Some(&(i, _)) = peaks(hook, 0..start_zone.min(n)).last() {
+            cuts.start_hook = Some(i);
+            first = i;
+        }
+        let end_zone = s.partition_point(|&x| x < total - zone);
+        if let Some(&(i, _)) = peaks(hook, end_zone.max(first + 1)..n).first() {
+            cuts.end_hook = Some(i);
+            last = i;
+        }
+    }
+    cuts.corners = peaks(corner, first..last + 1)
+        .into_iter()
+        .map(|(i, _)| i)
+        .filter(|&i| i > first && i < last)
+        .collect();
+    cuts
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn polyline(corners: &[(f64, f64)], step: f64) -> Vec<Point> {
+        let mut out = vec![Point::new(corners[0].0, corners[0].1)];
+        for w in corners.windows(2) {
+            let (a, b) = (Point::new(w[0].0, w[0].1), Point::new(w[1].0, w[1].1));
+            let k = (a.distance(b) / step).ceil() as usize;
+            out.extend((1..=k).map(|i| a.lerp(b, i as f64 / k as f64)));
+        }
+        out
+    }
+
+    #[test]
+    fn a_right_angle_is_one_corner_at_its_apex() {
+        let pts = polyline(&[(0.0, 0.0), (50.0, 0.0), (50.0, 40.0)], 0.5);
+        let cuts = find_corners(&pts, &CornerOptions::for_tolerance(0.1));
+        assert_eq!(cuts.corners.len(), 1);
+        assert!(pts[cuts.corners[0]].distance(Point::new(50.0, 0.0)) < 1e-9);
+        assert_eq!(cuts.start_hook, None);
+        assert_eq!(cuts.end_hook, None);
+    }
+
+    #[test]
+    fn a_gentle_arc_has_no_corner() {
+        let pts: Vec<Point> = (0..=300)
+            .map(|i| {
+                let a = i as f64 / 300.0 * 3.0;
+                Point::new(20.0 * a.cos(), 20.0 * a.sin())
+            })
+            .collect();
+        let cuts = find_corners(&pts, &CornerOptions::for_tolerance(0.1));
+        assert_eq!(cuts, Cuts::default());
+    }
+
+    #[test]
+    fn a_landing_hook_is_dropped_and_can_be_kept() {
+        // 1.5 mm hook back, then a 60 mm stroke.
+        let pts = polyline(&[(1.0, -1.2), (0.0, 0.0), (60.0, 0.0)], 0.25);
+        let cuts = find_corners(&pts, &CornerOptions::for_tolerance(0.1));
+        let h = cuts.start_hook.expect("hook found");
+        assert!(pts[h].distance(Point::ZERO) < 0.3, "{:?}", pts[h]);
+        assert!(cuts.corners.is_empty());
+        let kept = find_corners(
+            &pts,
+            &CornerOptions::for_tolerance(0.1).with_drop_hooks(false),
+        );
+        assert_eq!(kept.start_hook, None);
+        assert_eq!(kept.corners.len(), 1);
+    }
+}

@@ -1,0 +1,98 @@
+use thiserror::Error;
+
+/// Why a stroke or a `kansei-stroke` file was refused. Every variant names the stroke and, where
+/// there is one, the sample index (both 0-based), so a user can find the offending line.
+#[derive(Debug, Error, Clone, PartialEq)]
+pub enum StrokeError {
+    /// The file was empty (zero bytes or only whitespace).
+    #[error("the file is empty")]
+    Empty,
+    /// The JSON did not parse, or a field had the wrong type.
+    #[error("invalid JSON at line {line}, column {column}: {message}")]
+    Json {
+        /// 1-based line of the error.
+        line: usize,
+        /// 1-based column of the error.
+        column: usize,
+        /// What serde_json reported.
+        message: String,
+    },
+    /// The `format` field is not `kansei-stroke`.
+    #[error("\"format\" is {found:?}, expected \"kansei-stroke\"")]
+    WrongFormat {
+        /// The value found.
+        found: String,
+    },
+    /// The `version` is not one this library reads.
+    #[error("\"version\" is {found}, this kansei reads version 1")]
+    WrongVersion {
+        /// The value found.
+        found: u64,
+    },
+    /// A number is NaN or infinite.
+    #[error("stroke {stroke}, sample {sample}: {field} is not a finite number ({value})")]
+    NonFinite {
+        /// Stroke index.
+        stroke: usize,
+        /// Sample index within the stroke.
+        sample: usize,
+        /// Field name (`x`, `y`, `t`, ...).
+        field: &'static str,
+        /// The offending value.
+        value: f64,
+    },
+    /// A coordinate's magnitude exceeds [`crate::geom::MAX_COORDINATE`].
+    #[error(
+        "stroke {stroke}, sample {sample}: {field} = {value} is beyond the accepted range ±{limit}"
+    )]
+    OutOfRange {
+        /// Stroke index.
+        stroke: usize,
+        /// Sample index within the stroke.
+        sample: usize,
+        /// Field name.
+        field: &'static str,
+        /// The offending value.
+        value: f64,
+        /// The accepted magnitude.
+        limit: f64,
+    },
+    /// Pressure outside 0..1.
+    #[error("stroke {stroke}, sample {sample}: pressure {value} is outside 0..1")]
+    Pressure {
+        /// Stroke index.
+        stroke: usize,
+        /// Sample index within the stroke.
+        sample: usize,
+        /// The offending value.
+        value: f64,
+    },
+    /// Time decreased from one sample to the next.
+    #[error("stroke {stroke}, sample {sample}: time goes backwards ({t} s after {previous} s)")]
+    TimeBackwards {
+        /// Stroke index.
+        stroke: usize,
+        /// Sample index within the stroke.
+        sample: usize,
+        /// The sample's time.
+        t: f64,
+        /// The previous sample's time.
+        previous: f64,
+    },
+    /// Some samples have a time and others do not.
+    #[error("stroke {stroke}, sample {sample}: has no \"t\" while other samples of the stroke do")]
+    MixedTime {
+        /// Stroke index.
+        stroke: usize,
+        /// Sample index within the stroke.
+        sample: usize,
+    },
+    /// Fewer than two distinct positions.
+    #[error("stroke {stroke}: needs at least 2 distinct samples, has {distinct}")]
+    TooFewSamples {
+        /// Stroke index.
+        stroke: usize,
+        /// Number of distinct positions found.
+        distinct: usize,
+    },
+}

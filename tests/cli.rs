@@ -1,0 +1,94 @@
+//! The `kansei` binary: outputs, exit codes and error messages.
+
+use std::process::Command;
+
+fn kansei() -> Command {
+    Command::new(env!("CARGO_BIN_EXE_kansei"))
+}
+
+fn fixture(name: &str) -> String {
+    format!(
+        "{}/fixtures/strokes/{name}.json",
+        env!("CARGO_MANIFEST_DIR")
+    )
+}
+
+#[test]
+fn fit_writes_a_kansei_curve_document() {
+    let out = kansei()
+        .args(["fit", &fixture("google-ink-spring")])
+        .output()
+        .expect("runs");
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let doc = kansei::export::CurveFile::from_json(&String::from_utf8_lossy(&out.stdout))
+        .expect("valid document");
+    assert_eq!(doc.units, kansei::stroke::Units::Px);
+    assert_eq!(doc.tolerance, 0.5);
+    assert!(!doc.curves.is_empty());
+    for c in &doc.curves {
+        assert_eq!(c.bspline.degree, 3);
+        assert_eq!(c.bspline.knots.len(), c.bspline.control_points.len() + 4);
+        assert!(c.bspline.max_deviation <= 0.5);
+        assert!(c.segments.is_empty());
+    }
+}
+
+#[test]
+fn fit_writes_one_file_per_input_into_a_directory() {
+    let dir = std::env::temp_dir().join(format!("kansei-cli-{}", std::process::id()));
+    let out = kansei()
+        .args([
+            "fit",
+            &fixture("perfect-freehand-waves"),
+            &fixture("google-ink-straight-line"),
+            "--tolerance",
+            "1.5",
+            "--json",
+        ])
+        .arg(&dir)
+        .output()
+        .expect("runs");
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    for stem in ["perfect-freehand-waves", "google-ink-straight-line"] {
+        let text =
+            std::fs::read_to_string(dir.join(format!("{stem}.curve.json"))).expect("written");
+        let doc = kansei::export::CurveFile::from_json(&text).expect("valid");
+        assert_eq!(doc.tolerance, 1.5);
+    }
+    let _ = std::fs::remove_dir_all(dir);
+}
+
+#[test]
+fn bad_input_exits_non_zero_naming_the_file() {
+    let dir = std::env::temp_dir().join(format!("kansei-cli-bad-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).expect("tmp");
+    let bad = dir.join("bad.json");
+    std::fs::write(&bad, r#"{"format": "kansei-stroke", "version": 1, "units": "mm", "strokes": [{"samples": [{"x": 0, "y": 0, "t": 2}, {"x": 1, "y": 1, "t": 1}]}]}"#).expect("write");
+    for args in [
+        vec![bad.to_string_lossy().into_owned()],
+        vec![dir.join("missing.json").to_string_lossy().into_owned()],
+    ] {
+        let out = kansei().arg("fit").args(&args).output().expect("runs");
+        assert_eq!(out.status.code(), Some(1));
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert!(
+            err.contains(&args[0]),
+            "stderr does not name the file: {err}"
+        );
+        assert!(!err.contains("panicked"), "{err}");
+    }
+    let out = kansei()
+        .args(["fit", &fixture("google-ink-spring"), "--tolerance=-1"])
+        .output()
+        .expect("runs");
+    assert_eq!(out.status.code(), Some(1));
+    let _ = std::fs::remove_dir_all(dir);
+}

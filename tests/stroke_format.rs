@@ -1,0 +1,185 @@
+//! The kansei-stroke format: round trips and every kind of bad input.
+
+mod common;
+
+use kansei::pipeline::{PipelineOptions, fit_file};
+use kansei::stroke::{Sample, Stroke, StrokeError, StrokeFile, Units};
+
+fn doc(samples: &str) -> String {
+    format!(
+        r#"{{"format": "kansei-stroke", "version": 1, "units": "mm", "strokes": [{{"samples": [{samples}]}}]}}"#
+    )
+}
+
+#[test]
+fn every_fixture_round_trips_exactly() {
+    for name in common::fixture_names() {
+        let file = common::fixture(&name);
+        let again = StrokeFile::from_json(&file.to_json()).expect("own output reads back");
+        assert_eq!(file, again, "{name}");
+    }
+}
+
+#[test]
+fn awkward_numbers_round_trip_bit_for_bit() {
+    let xs = [
+        0.1 + 0.2,
+        1.0 / 3.0,
+        1e-300,
+        123456.78901234567,
+        -0.0,
+        5e-324,
+    ];
+    let stroke = Stroke::new(
+        xs.iter()
+            .enumerate()
+            .map(|(i, &x)| Sample::new(x, i as f64).with_t(i as f64 * 1e-3))
+            .collect(),
+    );
+    let file = StrokeFile::new(Units::Px, vec![stroke]);
+    let again = StrokeFile::from_json(&file.to_json()).expect("reads back");
+    for (a, b) in file.strokes[0]
+        .samples
+        .iter()
+        .zip(&again.strokes[0].samples)
+    {
+        assert_eq!(a.x.to_bits(), b.x.to_bits());
+    }
+}
+
+#[test]
+fn bad_inputs_give_errors_naming_the_place() {
+    let cases: Vec<(String, StrokeError)> = vec![
+        (String::new(), StrokeError::Empty),
+        ("   \n".into(), StrokeError::Empty),
+        (
+            doc(r#"{"x": 1, "y": 2}, {"x": 1, "y": 2}"#),
+            StrokeError::TooFewSamples {
+                stroke: 0,
+                distinct: 1,
+            },
+        ),
+        (
+            doc(r#"{"x": 1, "y": 2}"#),
+            StrokeError::TooFewSamples {
+                stroke: 0,
+                distinct: 1,
+            },
+        ),
+        (
+            doc(""),
+            StrokeError::TooFewSamples {
+                stroke: 0,
+                distinct: 0,
+            },
+        ),
+        (
+            doc(r#"{"x": 0, "y": 0, "t": 1.0}, {"x": 1, "y": 0, "t": 0.5}"#),
+            StrokeError::TimeBackwards {
+                stroke: 0,
+                sample: 1,
+                t: 0.5,
+                previous: 1.0,
+            },
+        ),
+        (
+            doc(r#"{"x": 0, "y": 0}, {"x": 1e10, "y": 0}"#),
+            StrokeError::OutOfRange {
+                stroke: 0,
+                sample: 1,
+                field: "x",
+                value: 1e10,
+                limit: 1e9,
+            },
+        ),
+        (
+            doc(r#"{"x": 0, "y": 0, "pressure": 1.5}, {"x": 1, "y": 0}"#),
+            StrokeError::Pressure {
+                stroke: 0,
+                sample: 0,
+                value: 1.5,
+            },
+        ),
+        (
+            doc(r#"{"x": 0, "y": 0, "t": 0}, {"x": 1, "y": 0}"#),
+            StrokeError::MixedTime {
+                stroke: 0,
+                sample: 1,
+            },
+        ),
+        (
+            r#"{"format": "kansei-curve", "version": 1, "units": "mm", "strokes": []}"#.into(),
+            StrokeError::WrongFormat {
+                found: "kansei-curve".into(),
+            },
+        ),
+        (
+            r#"{"format": "kansei-stroke", "version": 2, "units": "mm", "strokes": []}"#.into(),
+            StrokeError::WrongVersion { found: 2 },
+        ),
+    ];
+    for (text, expected) in cases {
+        assert_eq!(
+            StrokeFile::from_json(&text),
+            Err(expected.clone()),
+            "input {text:?}"
+        );
+        assert!(!expected.to_string().is_empty());
+    }
+}
+
+#[test]
+fn malformed_json_and_non_numbers_report_line_and_column() {
+    for text in [
+        "{\"format\": \"kansei-stroke\",",
+        &doc(r#"{"x": NaN, "y": 0}, {"x": 1, "y": 0}"#),
+        &doc(r#"{"x": 1e999, "y": 0}, {"x": 1, "y": 0}"#),
+        &doc(r#"{"x": "one", "y": 0}, {"x": 1, "y": 0}"#),
+        &doc(r#"{"y": 0}, {"x": 1, "y": 0}"#),
+        r#"{"format": "kansei-stroke", "version": 1, "units": "furlongs", "strokes": []}"#,
+    ] {
+        match StrokeFile::from_json(text) {
+            Err(StrokeError::Json { line, column, .. }) => assert!(line >= 1 && column >= 1),
+            other => panic!("{text:?}: expected a JSON error, got {other:?}"),
+        }
+    }
+}
+
+#[test]
+fn non_finite_values_built_in_code_are_refused() {
+    let stroke = Stroke::new(vec![Sample::new(0.0, 0.0), Sample::new(f64::NAN, 1.0)]);
+    let file = StrokeFile::new(Units::Mm, vec![stroke]);
+    assert_eq!(
+        file.validate().map_err(|e| matches!(
+            e,
+            StrokeError::NonFinite {
+                stroke: 0,
+                sample: 1,
+                field: "x",
+                ..
+            }
+        )),
+        Err(true)
+    );
+}
+
+#[test]
+fn a_hundred_thousand_samples_fit_correctly() {
+    // A slowly winding spiral drawn with 100 000 samples: a correct fit, in bounded time.
+    let samples: Vec<Sample> = (0..100_000)
+        .map(|i| {
+            let a = i as f64 * 2e-4;
+            let r = 50.0 + 4.0 * a;
+            Sample::new(r * a.cos(), r * a.sin()).with_t(i as f64 * 0.005)
+        })
+        .collect();
+    let file = StrokeFile::new(Units::Mm, vec![Stroke::new(samples)]);
+    file.validate().expect("valid");
+    let out = fit_file(&file, &PipelineOptions::default()).expect("fit");
+    assert!(!out.curves.is_empty());
+    for c in &out.curves {
+        assert!(c.bspline.within_tolerance && c.bspline.max_deviation <= 0.1);
+    }
+    let covered: usize = out.curves.iter().map(|c| c.samples.1 - c.samples.0).sum();
+    assert!(covered >= 99_000, "samples covered {covered}");
+}
