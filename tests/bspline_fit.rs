@@ -116,11 +116,9 @@ fn short_strokes_become_lines() {
     assert!(!fit.within_tolerance);
 }
 
-/// Relative tolerance on deviations under a similarity transform. The fairing search's λ
-/// bisection ends where the deviation meets the tolerance, and its last steps' pass/fail
-/// decisions are not yet reproducible under rotation (see KNOWN_NOT_INVARIANT), which moves the
-/// deviation by up to a few tenths of a percent.
-const DEVIATION_INVARIANCE: f64 = 1e-2;
+/// Relative tolerance on deviations under a similarity transform: rounding only (the fit runs in
+/// a centred unit frame, so every decision sees the same numbers up to a few ulps).
+const DEVIATION_INVARIANCE: f64 = 1e-6;
 
 /// Whether a stroke fits the same under a rotation + scale + translation; `Err` says what differs.
 fn invariant(stroke: &kansei::stroke::Stroke, index: usize, tol: f64) -> Result<(), String> {
@@ -166,66 +164,39 @@ fn invariant(stroke: &kansei::stroke::Stroke, index: usize, tol: f64) -> Result<
     Ok(())
 }
 
-/// Real strokes known not to fit invariantly yet (15 of 37): their splits or segment counts
-/// change under rotation because the fairing search's last pass/fail decisions differ (see
-/// DEVIATION_INVARIANCE), and a split or extremum near a noise threshold follows. Listed so the
-/// test fails loudly when one starts passing (then remove it from here); the root cause is the
-/// next job on the B-spline stage.
-const KNOWN_NOT_INVARIANT: &[(&str, usize)] = &[
-    ("libmypaint-painting30sec", 0),
-    ("libmypaint-painting30sec", 1),
-    ("libmypaint-painting30sec", 10),
-    ("libmypaint-painting30sec", 12),
-    ("libmypaint-painting30sec", 2),
-    ("libmypaint-painting30sec", 24),
-    ("libmypaint-painting30sec", 25),
-    ("libmypaint-painting30sec", 28),
-    ("libmypaint-painting30sec", 3),
-    ("libmypaint-painting30sec", 4),
-    ("libmypaint-painting30sec", 5),
-    ("libmypaint-painting30sec", 6),
-    ("libmypaint-painting30sec", 9),
-    ("perfect-freehand-corners", 0),
-    ("perfect-freehand-hey", 0),
-];
-
 #[test]
 fn fitting_is_invariant_under_rotation_translation_and_scale() {
-    // Synthetic strokes without noise (with noise, see KNOWN_NOT_INVARIANT's note).
-    let mut unexpected = Vec::new();
+    let mut failures = Vec::new();
     for (name, stroke) in [
         (
-            "synthetic-s-curve",
+            "synthetic S-curve",
             sample_curve(s_curve, -48.0, 48.0, 500, 0.0, 1),
         ),
         (
-            "synthetic-ellipse",
+            "synthetic ellipse",
             sample_curve(ellipse, -1.0, 1.0, 500, 0.0, 2),
         ),
+        (
+            "noisy S-curve",
+            sample_curve(s_curve, -48.0, 48.0, 500, 0.02, 3),
+        ),
+        (
+            "noisy ellipse",
+            sample_curve(ellipse, -1.0, 1.0, 500, 0.02, 4),
+        ),
     ] {
-        let known = KNOWN_NOT_INVARIANT.contains(&(name, 0));
-        match (invariant(&stroke, 0, 0.1), known) {
-            (Ok(()), false) | (Err(_), true) => {}
-            (Ok(()), true) => unexpected.push(format!(
-                "{name}#0 is invariant now: remove it from KNOWN_NOT_INVARIANT"
-            )),
-            (Err(e), false) => unexpected.push(format!("{name}#0: {e}")),
+        if let Err(e) = invariant(&stroke, 0, 0.1) {
+            failures.push(format!("{name}: {e}"));
         }
     }
-    // Every real fixture stroke.
     for name in fixture_names() {
         let file = fixture(&name);
         let tol = file.units.default_tolerance();
         for (i, stroke) in file.strokes.iter().enumerate() {
-            let known = KNOWN_NOT_INVARIANT.contains(&(name.as_str(), i));
-            match (invariant(stroke, i, tol), known) {
-                (Ok(()), false) | (Err(_), true) => {}
-                (Ok(()), true) => unexpected.push(format!(
-                    "{name}#{i} is invariant now: remove it from KNOWN_NOT_INVARIANT"
-                )),
-                (Err(e), false) => unexpected.push(format!("{name}#{i}: {e}")),
+            if let Err(e) = invariant(stroke, i, tol) {
+                failures.push(format!("{name}#{i}: {e}"));
             }
         }
     }
-    assert!(unexpected.is_empty(), "{}", unexpected.join("\n"));
+    assert!(failures.is_empty(), "{}", failures.join("\n"));
 }

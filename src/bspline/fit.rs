@@ -108,8 +108,11 @@ pub struct BSplineFit {
     /// Whether `max_deviation ≤ tolerance`. False only when even the largest allowed segment
     /// count could not reach the tolerance; the curve is then the best one found.
     pub within_tolerance: bool,
-    /// How many segment counts the search tried.
+    /// How many least-squares fits the search made (segment counts tried, plus fairing trials).
     pub attempts: usize,
+    /// The dimensionless fairing weight λ of the final curve (0 when not faired): the curve
+    /// minimises Σ wᵢ‖C(uᵢ) − qᵢ‖² + λ·m·∫‖C‴(u)‖² du over its knots.
+    pub fairing: f64,
 }
 
 /// Why a fit could not be made.
@@ -204,6 +207,7 @@ fn from_unit(fit: BSplineFit, centre: Point, size: f64, tolerance: f64) -> BSpli
         rms_deviation: fit.rms_deviation * size,
         within_tolerance: max_deviation <= tolerance,
         attempts: fit.attempts,
+        fairing: fit.fairing,
     }
 }
 
@@ -301,7 +305,8 @@ fn fair(
             .zip(&params)
             .map(|(q, &u)| pieces.project_local(*q, u))
             .collect();
-        let fit = summarise(curve, &feet, options.tolerance);
+        let mut fit = summarise(curve, &feet, options.tolerance);
+        fit.fairing = mid.exp();
         if fit.within_tolerance {
             best = fit;
             lo = mid;
@@ -322,9 +327,10 @@ fn exact(fit: BSplineFit, points: &[Point], tolerance: f64) -> BSplineFit {
         .zip(fit.params.iter().zip(&fit.distances))
         .map(|(q, (&u, &distance))| pieces.distance(*q, Foot { u, distance }))
         .collect();
-    let attempts = fit.attempts;
+    let (attempts, fairing) = (fit.attempts, fit.fairing);
     let mut out = summarise(fit.curve, &feet, tolerance);
     out.attempts = attempts;
+    out.fairing = fairing;
     out
 }
 
@@ -354,11 +360,24 @@ fn penalised_least_squares(
     }
     let mut lsq = BandedLsq::new(&knots);
     let probe = SpanFinder::new(&knots);
+    // Each span's fairness row goes in just before the first sample of a later span, keeping
+    // the rows in column order (see `BandedLsq::add_span_jerk_penalty`).
+    let mut next_penalty = DEGREE;
     for ((q, &u), &w) in points.iter().zip(params).zip(weights) {
-        lsq.add_sample(probe.find(u), u, *q, w);
+        let span = probe.find(u);
+        if jerk_weight > 0.0 {
+            while next_penalty < span {
+                lsq.add_span_jerk_penalty(next_penalty, jerk_weight);
+                next_penalty += 1;
+            }
+        }
+        lsq.add_sample(span, u, *q, w);
     }
     if jerk_weight > 0.0 {
-        lsq.add_jerk_penalty(jerk_weight);
+        while next_penalty < n_ctrl {
+            lsq.add_span_jerk_penalty(next_penalty, jerk_weight);
+            next_penalty += 1;
+        }
     }
     let mean = weights.iter().sum::<f64>() / weights.len().max(1) as f64;
     let solution = lsq.solve(mean)?;
@@ -426,6 +445,7 @@ fn summarise(curve: BSpline, feet: &[Foot], tolerance: f64) -> BSplineFit {
         rms_deviation,
         within_tolerance: max_deviation <= tolerance,
         attempts: 1,
+        fairing: 0.0,
     }
 }
 

@@ -73,30 +73,36 @@ impl<'a> BandedLsq<'a> {
     }
 
     /// Adds a row with non-zeros `row` in columns `first..first + 4` and right-hand side `rhs`.
-    fn rotate_in(&mut self, first: usize, mut row: [f64; BAND], mut rhs: Vec2) {
-        for c in 0..BAND {
-            let j = first + c;
-            if j >= self.r.len() {
-                break;
+    ///
+    /// The row is rotated against `R`'s rows `first, first + 1, …` in turn. Row `j` of `R`
+    /// spans columns `j..j + 4`, so each rotation can fill the incoming row one column further
+    /// right: the four-wide window slides until it is all zero (for rows arriving in column
+    /// order, as the samples do, that is after four steps; a row arriving out of order may slide
+    /// to the last column).
+    fn rotate_in(&mut self, first: usize, row: [f64; BAND], mut rhs: Vec2) {
+        let n = self.r.len();
+        let mut w = row;
+        let mut j = first;
+        while j < n && w.iter().any(|&x| x != 0.0) {
+            let piv = w[0];
+            if piv != 0.0 {
+                // Givens rotation zeroing `piv` against the diagonal R(j, j).
+                let d = self.r[j][0];
+                let h = d.hypot(piv);
+                let (cos, sin) = (d / h, piv / h);
+                self.r[j][0] = h;
+                let zj = self.z[j];
+                self.z[j] = zj * cos + rhs * sin;
+                rhs = rhs * cos - zj * sin;
+                for i in 1..BAND {
+                    let a = self.r[j][i];
+                    let b = w[i];
+                    self.r[j][i] = cos * a + sin * b;
+                    w[i] = cos * b - sin * a;
+                }
             }
-            let piv = row[c];
-            if piv == 0.0 {
-                continue;
-            }
-            // Givens rotation zeroing `piv` against the diagonal R(j, j).
-            let d = self.r[j][0];
-            let h = d.hypot(piv);
-            let (cos, sin) = (d / h, piv / h);
-            self.r[j][0] = h;
-            let zj = self.z[j];
-            self.z[j] = zj * cos + rhs * sin;
-            rhs = rhs * cos - zj * sin;
-            for i in c + 1..BAND {
-                let a = self.r[j][i - c];
-                let b = row[i];
-                self.r[j][i - c] = cos * a + sin * b;
-                row[i] = cos * b - sin * a;
-            }
+            w = [w[1], w[2], w[3], 0.0];
+            j += 1;
         }
         self.residual += rhs.hypot2();
     }
@@ -115,21 +121,29 @@ impl<'a> BandedLsq<'a> {
     /// of four non-zeros per span. `N‴ⱼ` is the third finite difference of the basis at four
     /// equally spaced points of the span divided by `h³` (exact for a cubic up to rounding).
     pub fn add_jerk_penalty(&mut self, weight: f64) {
-        let n = self.r.len();
-        for k in DEGREE..n {
-            let (a, b) = (self.knots[k], self.knots[k + 1]);
-            if b <= a {
-                continue;
-            }
-            let h = (b - a) / 3.0;
-            let v: [[f64; BAND]; 4] =
-                std::array::from_fn(|i| basis_functions(self.knots, k, a + h * i as f64));
-            let scale = (weight * (b - a)).sqrt() / (h * h * h);
-            let row: [f64; BAND] = std::array::from_fn(|j| {
-                scale * (v[3][j] - 3.0 * v[2][j] + 3.0 * v[1][j] - v[0][j])
-            });
-            self.rotate_in(k - DEGREE, row, Vec2::ZERO);
+        for k in DEGREE..self.r.len() {
+            self.add_span_jerk_penalty(k, weight);
         }
+    }
+
+    /// The fairness row of knot span `k` alone (see [`BandedLsq::add_jerk_penalty`]). Adding it
+    /// just before the first sample of span `k + 1` keeps the rows in column order, so each is
+    /// rotated in four steps.
+    pub fn add_span_jerk_penalty(&mut self, k: usize, weight: f64) {
+        if k < DEGREE || k >= self.r.len() {
+            return;
+        }
+        let (a, b) = (self.knots[k], self.knots[k + 1]);
+        if b <= a {
+            return;
+        }
+        let h = (b - a) / 3.0;
+        let v: [[f64; BAND]; 4] =
+            std::array::from_fn(|i| basis_functions(self.knots, k, a + h * i as f64));
+        let scale = (weight * (b - a)).sqrt() / (h * h * h);
+        let row: [f64; BAND] =
+            std::array::from_fn(|j| scale * (v[3][j] - 3.0 * v[2][j] + 3.0 * v[1][j] - v[0][j]));
+        self.rotate_in(k - DEGREE, row, Vec2::ZERO);
     }
 
     /// Whether every control point is determined (no tiny diagonal in `R`).
@@ -278,6 +292,133 @@ mod tests {
         // Collinear data: fairing keeps the undetermined point on the line.
         for p in &sol.control_points {
             assert!((p.y - 2.0 * p.x).abs() < 1e-6, "{p:?}");
+        }
+    }
+
+    /// Dense rows of the same system, for the SVD oracle: data rows then jerk rows.
+    fn dense_with_jerk(
+        k: &[f64],
+        samples: &[(f64, Point)],
+        jerk: f64,
+    ) -> (DMatrix<f64>, DVector<f64>, DVector<f64>) {
+        let n = k.len() - 4;
+        let s = BSpline::new(k.to_vec(), vec![Point::ZERO; n]).expect("valid");
+        let mut rows: Vec<(Vec<f64>, Point)> = Vec::new();
+        for &(u, q) in samples {
+            let span = s.find_span(u);
+            let b = s.basis(span, u);
+            let mut r = vec![0.0; n];
+            r[span - 3..=span].copy_from_slice(&b);
+            rows.push((r, q));
+        }
+        for kk in 3..n {
+            let (a, bb) = (k[kk], k[kk + 1]);
+            if bb <= a {
+                continue;
+            }
+            // C‴ on the span from the basis's cubic coefficients, by a dense 4×4 fit of each
+            // basis function: an independent route to N‴.
+            let us: Vec<f64> = (0..4)
+                .map(|i| a + (bb - a) * (0.1 + 0.25 * i as f64))
+                .collect();
+            let vander = DMatrix::from_fn(4, 4, |i, p| us[i].powi(p as i32));
+            let mut r = vec![0.0; n];
+            for j in 0..4 {
+                let vals = DVector::from_fn(4, |i, _| s.basis(kk, us[i])[j]);
+                let coef = vander.clone().lu().solve(&vals).expect("Vandermonde");
+                r[kk - 3 + j] = (jerk * (bb - a)).sqrt() * 6.0 * coef[3];
+            }
+            rows.push((r, Point::ZERO));
+        }
+        let a = DMatrix::from_fn(rows.len(), n, |i, j| rows[i].0[j]);
+        let bx = DVector::from_fn(rows.len(), |i, _| rows[i].1.x);
+        let by = DVector::from_fn(rows.len(), |i, _| rows[i].1.y);
+        (a, bx, by)
+    }
+
+    #[test]
+    fn jerk_penalty_agrees_with_a_dense_solve_and_is_translation_invariant() {
+        let k = vec![
+            0.0, 0.0, 0.0, 0.0, 0.15, 0.4, 0.55, 0.7, 0.85, 1.0, 1.0, 1.0, 1.0,
+        ];
+        let n = k.len() - 4;
+        let s = BSpline::new(k.clone(), vec![Point::ZERO; n]).expect("valid");
+        let jerk = 1e-5;
+        let mut previous: Option<Vec<Point>> = None;
+        for shift in [0.0, 0.7, -1234.5] {
+            let samples: Vec<(f64, Point)> = (0..60)
+                .map(|i| {
+                    let u = i as f64 / 59.0;
+                    (
+                        u,
+                        Point::new((3.0 * u).sin() + shift, (2.0 * u).cos() - 0.5 * shift),
+                    )
+                })
+                .collect();
+            let mut lsq = BandedLsq::new(&k);
+            for &(u, q) in &samples {
+                lsq.add_sample(s.find_span(u), u, q, 1.0);
+            }
+            // Added after all the data: the out-of-order case.
+            lsq.add_jerk_penalty(jerk);
+            let sol = lsq.solve(1.0).expect("determined");
+            let (a, bx, by) = dense_with_jerk(&k, &samples, jerk);
+            let svd = a.svd(true, true);
+            let x = svd.solve(&bx, 1e-14).expect("svd");
+            let y = svd.solve(&by, 1e-14).expect("svd");
+            for j in 0..n {
+                let p = sol.control_points[j];
+                assert!(
+                    (p.x - x[j]).abs() < 1e-8 && (p.y - y[j]).abs() < 1e-8,
+                    "shift {shift}, P{j}"
+                );
+            }
+            let unshifted: Vec<Point> = sol
+                .control_points
+                .iter()
+                .map(|p| Point::new(p.x - shift, p.y + 0.5 * shift))
+                .collect();
+            if let Some(prev) = &previous {
+                for (a, b) in prev.iter().zip(&unshifted) {
+                    assert!(a.distance(*b) < 1e-9, "shift {shift}: {a:?} vs {b:?}");
+                }
+            }
+            previous = Some(unshifted);
+        }
+    }
+
+    #[test]
+    fn row_order_does_not_matter() {
+        let k = knots();
+        let n = k.len() - 4;
+        let s = BSpline::new(k.clone(), vec![Point::ZERO; n]).expect("valid");
+        let samples: Vec<(f64, Point)> = (0..80)
+            .map(|i| {
+                let u = i as f64 / 79.0;
+                (
+                    u,
+                    Point::new((5.0 * u).sin(), u * u + 0.1 * (17.0 * u).cos()),
+                )
+            })
+            .collect();
+        let solve = |order: &[usize]| {
+            let mut lsq = BandedLsq::new(&k);
+            for &i in order {
+                let (u, q) = samples[i];
+                lsq.add_sample(s.find_span(u), u, q, 1.0);
+            }
+            lsq.solve(1.0).expect("determined").control_points
+        };
+        let sorted: Vec<usize> = (0..samples.len()).collect();
+        let reversed: Vec<usize> = sorted.iter().rev().copied().collect();
+        let shuffled: Vec<usize> = (0..samples.len())
+            .map(|i| (i * 37) % samples.len())
+            .collect();
+        let a = solve(&sorted);
+        for other in [solve(&reversed), solve(&shuffled)] {
+            for (p, q) in a.iter().zip(&other) {
+                assert!(p.distance(*q) < 1e-10, "{p:?} vs {q:?}");
+            }
         }
     }
 }

@@ -70,6 +70,9 @@ pub struct BSplineRecord {
     pub rms_deviation: f64,
     /// Whether `max_deviation ≤ tolerance`.
     pub within_tolerance: bool,
+    /// The fairing weight λ the curve was fitted with (0: plain least squares); see
+    /// [`crate::bspline::BSplineFit::fairing`].
+    pub fairing: f64,
 }
 
 /// A point where the curve is split.
@@ -135,6 +138,7 @@ impl CurveEntry {
                 max_deviation: b.max_deviation,
                 rms_deviation: b.rms_deviation,
                 within_tolerance: b.within_tolerance,
+                fairing: b.fairing,
             },
             splits: fit
                 .spans
