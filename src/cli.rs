@@ -218,6 +218,25 @@ pub fn write_atomic(path: &Path, bytes: &[u8]) -> Result<(), CliError> {
     std::fs::rename(&tmp, path).map_err(io)
 }
 
+/// A benchmark row's label and how it derives the tolerance from a file's unit default.
+type ToleranceSetting = (String, Box<dyn Fn(f64) -> f64>);
+
+/// Per-configuration figures gathered by `bench`.
+#[derive(Default)]
+struct BenchTally {
+    per_stroke: Vec<f64>,
+    per_sample: Vec<f64>,
+    segments: usize,
+    spans: usize,
+}
+
+impl BenchTally {
+    fn median(v: &mut [f64]) -> f64 {
+        v.sort_by(f64::total_cmp);
+        v.get(v.len() / 2).copied().unwrap_or(0.0)
+    }
+}
+
 fn bench(args: &BenchArgs, out: &mut dyn std::io::Write) -> Result<(), CliError> {
     let inputs = if args.inputs.is_empty() {
         let dir = Path::new("fixtures/strokes");
@@ -245,89 +264,101 @@ fn bench(args: &BenchArgs, out: &mut dyn std::io::Write) -> Result<(), CliError>
     };
     writeln!(
         out,
-        "kansei bench: B-spline + split stages, median of {repeat} runs per stroke"
+        "kansei bench: prepare + B-spline + split per stroke, median of {repeat} runs; peer = the \
+         seed's method (segments added one by one, no fairing), timed in the same run"
     )
     .map_err(io)?;
     writeln!(
         out,
-        "{:>10} {:>8} {:>9} {:>12} {:>12} {:>12} {:>10} {:>10}",
-        "tol×unit",
+        "{:>11} {:>7} {:>7} | {:>11} {:>10} {:>8} {:>8} | {:>11} {:>8} {:>8} | {:>10}",
+        "tolerance",
         "strokes",
         "samples",
-        "med µs/strk",
-        "med ns/smpl",
-        "total ms",
+        "µs/stroke",
+        "ns/sample",
         "seg/strk",
-        "spans/strk"
+        "spn/strk",
+        "peer µs/st",
+        "seg/strk",
+        "spn/strk",
+        "peer/ours"
     )
     .map_err(io)?;
-    let factors: Vec<Option<f64>> = if args.tolerances.is_empty() {
-        vec![None, Some(2.0)]
+    let settings: Vec<ToleranceSetting> = if args.tolerances.is_empty() {
+        vec![
+            ("1×default".to_owned(), Box::new(|base| base)),
+            ("2×default".to_owned(), Box::new(|base| 2.0 * base)),
+        ]
     } else {
-        args.tolerances.iter().map(|&t| Some(t)).collect()
+        args.tolerances
+            .iter()
+            .map(|&t| {
+                (
+                    format!("{t}"),
+                    Box::new(move |_| t) as Box<dyn Fn(f64) -> f64>,
+                )
+            })
+            .collect()
     };
-    for factor in factors {
-        let mut per_stroke = Vec::new();
-        let mut per_sample = Vec::new();
-        let (mut segments, mut spans, mut strokes, mut samples) = (0usize, 0usize, 0usize, 0usize);
-        let mut total = 0.0;
+    for (label, tolerance_of) in settings {
+        let (mut ours, mut peer) = (BenchTally::default(), BenchTally::default());
+        let (mut strokes, mut samples) = (0usize, 0usize);
+        let mut ratios = Vec::new();
         for (path, file) in &files {
-            let base = file.units.default_tolerance();
-            let tolerance = match (factor, args.tolerances.is_empty()) {
-                (Some(f), true) => base * f,
-                (Some(t), false) => t,
-                (None, _) => base,
-            };
-            let options = PipelineOptions::default().with_tolerance(tolerance);
+            let tolerance = tolerance_of(file.units.default_tolerance());
+            let configs = [
+                PipelineOptions::default().with_tolerance(tolerance),
+                PipelineOptions::default()
+                    .with_tolerance(tolerance)
+                    .seed_method(),
+            ];
             for (i, stroke) in file.strokes.iter().enumerate() {
-                let mut times = Vec::with_capacity(repeat);
-                let mut last = None;
-                for _ in 0..repeat {
-                    let start = Instant::now();
-                    let r = crate::pipeline::fit_stroke(stroke, i, tolerance, &options);
-                    times.push(start.elapsed().as_secs_f64());
-                    last = Some(r);
+                let mut medians = [0.0; 2];
+                for (c, (options, tally)) in configs.iter().zip([&mut ours, &mut peer]).enumerate()
+                {
+                    let mut times = Vec::with_capacity(repeat);
+                    let mut fits = Vec::new();
+                    for _ in 0..repeat {
+                        let start = Instant::now();
+                        let r = crate::pipeline::fit_stroke(stroke, i, tolerance, options);
+                        times.push(start.elapsed().as_secs_f64());
+                        fits = r.map_err(|source| CliError::Pipeline {
+                            path: path.clone(),
+                            source,
+                        })?;
+                    }
+                    let median = BenchTally::median(&mut times);
+                    medians[c] = median;
+                    tally.per_stroke.push(median);
+                    tally
+                        .per_sample
+                        .push(median / stroke.samples.len().max(1) as f64);
+                    tally.segments += fits
+                        .iter()
+                        .map(|f| f.bspline.curve.segment_count())
+                        .sum::<usize>();
+                    tally.spans += fits.iter().map(|f| f.spans.spans.len()).sum::<usize>();
                 }
-                let fits = match last {
-                    Some(r) => r.map_err(|source| CliError::Pipeline {
-                        path: path.clone(),
-                        source,
-                    })?,
-                    None => Vec::new(),
-                };
-                times.sort_by(f64::total_cmp);
-                let median = times[times.len() / 2];
-                total += median;
-                per_stroke.push(median);
-                per_sample.push(median / stroke.samples.len().max(1) as f64);
+                ratios.push(medians[1] / medians[0]);
                 strokes += 1;
                 samples += stroke.samples.len();
-                segments += fits
-                    .iter()
-                    .map(|f| f.bspline.curve.segment_count())
-                    .sum::<usize>();
-                spans += fits.iter().map(|f| f.spans.spans.len()).sum::<usize>();
             }
         }
-        per_stroke.sort_by(f64::total_cmp);
-        per_sample.sort_by(f64::total_cmp);
-        let med = |v: &[f64]| v.get(v.len() / 2).copied().unwrap_or(0.0);
-        let label = match (factor, args.tolerances.is_empty()) {
-            (None, _) => "1×default".to_owned(),
-            (Some(f), true) => format!("{f}×default"),
-            (Some(t), false) => format!("{t}"),
-        };
+        let per = |n: usize| n as f64 / strokes.max(1) as f64;
         writeln!(
             out,
-            "{:>10} {:>8} {:>9} {:>12.1} {:>12.0} {:>12.2} {:>10.2} {:>10.2}",
+            "{:>11} {:>7} {:>7} | {:>11.1} {:>10.0} {:>8.2} {:>8.2} | {:>11.1} {:>8.2} {:>8.2} | {:>10.2}",
             label,
             strokes,
             samples,
-            med(&per_stroke) * 1e6,
-            med(&per_sample) * 1e9,
-            total * 1e3,
-            segments as f64 / strokes.max(1) as f64,
-            spans as f64 / strokes.max(1) as f64,
+            BenchTally::median(&mut ours.per_stroke) * 1e6,
+            BenchTally::median(&mut ours.per_sample) * 1e9,
+            per(ours.segments),
+            per(ours.spans),
+            BenchTally::median(&mut peer.per_stroke) * 1e6,
+            per(peer.segments),
+            per(peer.spans),
+            BenchTally::median(&mut ratios),
         )
         .map_err(io)?;
     }

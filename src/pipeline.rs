@@ -3,7 +3,7 @@
 //! stroke → [`prepare`](crate::prepare) (duplicates, corners, hooks) → per piece
 //! [`fit_bspline`] → [`split_spans`] → [`CurveFit`].
 
-use crate::bspline::{BSplineFit, FitError, FitOptions, fit_bspline};
+use crate::bspline::{BSplineFit, FitError, FitOptions, SegmentSearch, fit_bspline};
 use crate::prepare::{CornerOptions, PieceEnd, prepare};
 use crate::split::{Spans, SplitError, SplitKind, SplitOptions, split_spans};
 use crate::stroke::{Stroke, StrokeFile, Units};
@@ -20,6 +20,10 @@ pub struct PipelineOptions {
     pub keep_hooks: bool,
     /// Upper bound on B-spline segments per piece. Default 4096.
     pub max_segments: usize,
+    /// Fair the B-spline (see [`FitOptions::fair`]). Default true.
+    pub fair: bool,
+    /// Segment-count search. Default [`SegmentSearch::DoublingBisection`].
+    pub search: SegmentSearch,
     /// Options of the split stage (defaults: [`SplitOptions::default`]).
     pub split: SplitOptions,
 }
@@ -31,6 +35,8 @@ impl Default for PipelineOptions {
             corner_angle: 70.0,
             keep_hooks: false,
             max_segments: 4096,
+            fair: true,
+            search: SegmentSearch::DoublingBisection,
             split: SplitOptions::default(),
         }
     }
@@ -40,6 +46,14 @@ impl PipelineOptions {
     /// The tolerance for strokes in `units`.
     pub fn tolerance_for(&self, units: Units) -> f64 {
         self.tolerance.unwrap_or(units.default_tolerance())
+    }
+
+    /// The seed paper's configuration: segments added one at a time, plain least squares (no
+    /// fairing). The benchmark's peer.
+    pub fn seed_method(mut self) -> Self {
+        self.fair = false;
+        self.search = SegmentSearch::Linear;
+        self
     }
 
     /// Sets [`PipelineOptions::tolerance`].
@@ -123,7 +137,10 @@ pub fn fit_stroke(
     if !(tolerance.is_finite() && tolerance > 0.0) {
         return Err(PipelineError::BadTolerance(tolerance));
     }
-    let fit_options = FitOptions::new(tolerance).with_max_segments(options.max_segments);
+    let fit_options = FitOptions::new(tolerance)
+        .with_max_segments(options.max_segments)
+        .with_fairing(options.fair)
+        .with_search(options.search);
     let pieces = prepare(stroke, &options.corner_options(tolerance));
     pieces
         .iter()
@@ -136,15 +153,15 @@ pub fn fit_stroke(
                     last,
                     source,
                 })?;
-            let mut spans =
-                split_spans(&bspline.curve.to_beziers(), &options.split).map_err(|source| {
-                    PipelineError::Split {
-                        stroke: index,
-                        first,
-                        last,
-                        source,
-                    }
-                })?;
+            let split = options.split.with_tolerance(tolerance);
+            let mut spans = split_spans(&bspline.curve.to_beziers(), &split).map_err(|source| {
+                PipelineError::Split {
+                    stroke: index,
+                    first,
+                    last,
+                    source,
+                }
+            })?;
             mark_corners(&mut spans, piece.start, piece.end);
             Ok(CurveFit {
                 stroke: index,

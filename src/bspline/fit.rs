@@ -18,6 +18,17 @@ pub enum Weighting {
     Uniform,
 }
 
+/// How the number of segments is searched.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum SegmentSearch {
+    /// 1 segment, then doubling until the tolerance holds, then bisection: O(log n) fits.
+    #[default]
+    DoublingBisection,
+    /// 1, 2, 3, … segments until the tolerance holds: the seed paper's search, O(n) fits. Kept
+    /// as the benchmark's peer.
+    Linear,
+}
+
 /// Options for [`fit_bspline`].
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct FitOptions {
@@ -34,25 +45,30 @@ pub struct FitOptions {
     /// Sample weighting. Default [`Weighting::ArcLength`].
     pub weighting: Weighting,
     /// Fairing. Default true: once the fewest segments are known, the curve is refitted with
-    /// [`FAIRING_SEGMENT_FACTOR`] times as many and the largest penalty on ∫‖C‴‖² du that keeps
-    /// every sample within the tolerance. A plain least-squares spline with just enough segments
+    /// [`FAIRING_SEGMENT_FACTOR`] times as many and the largest penalty on the jumps of C‴ at
+    /// the knots that keeps every sample within the tolerance. A plain least-squares spline with just enough segments
     /// meets the tolerance with a curvature that wobbles around the drawn one, and every wobble
     /// is a spurious curvature extremum; the fairest curve within the tolerance has only the
     /// extrema the data demand.
     pub fair: bool,
+    /// The segment-count search. Default [`SegmentSearch::DoublingBisection`].
+    pub search: SegmentSearch,
 }
 
 /// Segment multiplier for the fairing pass: the extra freedom is what the penalty trades for
 /// smoothness. 2 leaves the tolerance reachable with a strong penalty on every fixture.
 pub const FAIRING_SEGMENT_FACTOR: usize = 2;
 
-/// Range of the dimensionless fairing weight λ (the penalty is λ·m·∫‖C‴‖² du for m samples of
-/// mean weight 1, both terms scaling as length², so λ is invariant under scaling): 1e-14 is
-/// negligible against any data term, 1e-2 flattens any stroke beyond a tolerance.
-const FAIRING_LAMBDA_RANGE: (f64, f64) = (1e-14, 1e-2);
+/// Range of the fairing weight λ searched, relative to the piece's natural scale
+/// `λ_ref = tol² / J₀` (J₀ = Σ h‖ΔC‴‖² over the knots of the unpenalised fit, see
+/// `jump_energy`), the weight at which the penalty
+/// of the unpenalised curve equals the data term's whole budget of m·tol². Ten decades around it
+/// cover every fixture: at 1e-6·λ_ref the penalty moves the curve by far less than the tolerance,
+/// at 1e4·λ_ref it flattens any curve beyond it.
+const FAIRING_RELATIVE_RANGE: (f64, f64) = (1e-6, 1e4);
 
-/// Bisection steps on log λ: 12 halvings of 12 decades leave a factor of about 2 in λ, finer
-/// than any visible change in the curve.
+/// Bisection steps on log λ: 12 halvings of 10 decades leave a factor of 1.006 in λ, finer than
+/// any visible change in the curve.
 const FAIRING_STEPS: usize = 12;
 
 impl FitOptions {
@@ -64,7 +80,14 @@ impl FitOptions {
             parameter_corrections: 3,
             weighting: Weighting::ArcLength,
             fair: true,
+            search: SegmentSearch::DoublingBisection,
         }
+    }
+
+    /// Sets [`FitOptions::search`].
+    pub const fn with_search(mut self, search: SegmentSearch) -> Self {
+        self.search = search;
+        self
     }
 
     /// Sets [`FitOptions::fair`].
@@ -110,8 +133,9 @@ pub struct BSplineFit {
     pub within_tolerance: bool,
     /// How many least-squares fits the search made (segment counts tried, plus fairing trials).
     pub attempts: usize,
-    /// The dimensionless fairing weight λ of the final curve (0 when not faired): the curve
-    /// minimises Σ wᵢ‖C(uᵢ) − qᵢ‖² + λ·m·∫‖C‴(u)‖² du over its knots.
+    /// The fairing weight λ of the final curve (0 when not faired): the curve minimises
+    /// Σ wᵢ‖C(uᵢ) − qᵢ‖² + λ·m·Σₖ hₖ‖C‴(tₖ⁺) − C‴(tₖ⁻)‖² over its knots (mean sample weight 1,
+    /// hₖ the mean length of the spans at interior knot tₖ, all in the fit's unit frame).
     pub fairing: f64,
 }
 
@@ -229,7 +253,11 @@ fn fit_unit(points: &[Point], options: &FitOptions) -> Result<BSplineFit, FitErr
         attempts += 1;
         fit_segments(points, &weights, &chord, segments, options)
     };
-    // Doubling.
+    let step = |n: usize| match options.search {
+        SegmentSearch::DoublingBisection => 2 * n,
+        SegmentSearch::Linear => n + 1,
+    };
+    // Doubling (or the seed's one-by-one growth).
     let mut failed = 0;
     let mut n = 1;
     let mut passed = loop {
@@ -243,7 +271,7 @@ fn fit_unit(points: &[Point], options: &FitOptions) -> Result<BSplineFit, FitErr
             return Ok(exact(fit, points, options.tolerance));
         }
         failed = n;
-        n = (2 * n).min(max_segments);
+        n = step(n).min(max_segments);
     };
     // Bisection on (failed, n].
     let mut hi = n;
@@ -268,12 +296,11 @@ fn fit_unit(points: &[Point], options: &FitOptions) -> Result<BSplineFit, FitErr
 /// The fairest fit with `segments` segments that stays within the tolerance.
 ///
 /// The plain least-squares fit with `segments` segments (parameter-corrected) fixes the knots and
-/// the sample parameters; then bisection on log λ finds the largest fairing weight whose
-/// penalised solve keeps every sample's local foot-point distance within the tolerance. With
-/// parameters and knots held, each trial is one linear solve, so the search is well posed:
-/// re-running parameter correction inside it would let a heavily penalised trial drift and make
-/// the pass/fail boundary depend on rounding. `fallback` (a passing fit) is kept when no
-/// penalised fit passes.
+/// the sample parameters; then bisection on log λ over [`FAIRING_RELATIVE_RANGE`] × λ_ref finds
+/// the largest fairing weight whose penalised solve keeps every sample's local foot-point
+/// distance within the tolerance. With parameters and knots held, each trial is one linear
+/// solve, so the search is well posed. `fallback` (the passing fit with the fewest segments) is
+/// kept when no penalised fit passes: more segments without fairing would only add wobbles.
 fn fair(
     points: &[Point],
     weights: &[f64],
@@ -284,7 +311,8 @@ fn fair(
 ) -> Result<BSplineFit, FitError> {
     let attempts = fallback.attempts + 1 + FAIRING_STEPS;
     let plain = fit_segments(points, weights, chord, segments, options)?;
-    if !plain.within_tolerance {
+    let jumps = jump_energy(&plain.curve);
+    if !(plain.within_tolerance && jumps > 0.0 && jumps.is_finite()) {
         return Ok(BSplineFit {
             attempts,
             ..fallback
@@ -293,12 +321,24 @@ fn fair(
     let knots = plain.curve.knots().to_vec();
     let params = plain.params.clone();
     let m = points.len() as f64;
-    let (mut lo, mut hi) = (FAIRING_LAMBDA_RANGE.0.ln(), FAIRING_LAMBDA_RANGE.1.ln());
-    let mut best = plain;
+    // Data term: Σ wᵢ‖rᵢ‖² with mean weight 1, so its budget is m·tol²; the penalty of the
+    // unpenalised curve at weight λ·m is λ·m·J₀. They balance at λ_ref = tol²/J₀.
+    let reference = options.tolerance * options.tolerance / jumps;
+    let (mut lo, mut hi) = (
+        (reference * FAIRING_RELATIVE_RANGE.0).ln(),
+        (reference * FAIRING_RELATIVE_RANGE.1).ln(),
+    );
+    let mut best: Option<BSplineFit> = None;
     for _ in 0..FAIRING_STEPS {
         let mid = 0.5 * (lo + hi);
-        let curve =
-            penalised_least_squares(points, &params, weights, knots.clone(), mid.exp() * m)?;
+        // A trial whose solve fails (not expected: fairness rows only add rank) counts as a
+        // failing weight, never as a failed fit: the fallback always exists.
+        let Ok(curve) =
+            penalised_least_squares(points, &params, weights, knots.clone(), mid.exp() * m)
+        else {
+            hi = mid;
+            continue;
+        };
         let pieces = Pieces::new(curve.to_beziers());
         let feet: Vec<Foot> = points
             .iter()
@@ -308,14 +348,37 @@ fn fair(
         let mut fit = summarise(curve, &feet, options.tolerance);
         fit.fairing = mid.exp();
         if fit.within_tolerance {
-            best = fit;
+            best = Some(fit);
             lo = mid;
         } else {
             hi = mid;
         }
     }
-    best.attempts = attempts;
-    Ok(best)
+    let mut out = best.unwrap_or(fallback);
+    out.attempts = attempts;
+    Ok(out)
+}
+
+/// J = Σₖ hₖ‖C‴(tₖ⁺) − C‴(tₖ⁻)‖² over the interior knots: on each Bézier piece of parameter
+/// length Δu, C‴ = 6(p₃ − 3p₂ + 3p₁ − p₀)/Δu³ is constant; hₖ is the mean length of the two
+/// pieces meeting at the knot.
+fn jump_energy(curve: &BSpline) -> f64 {
+    let thirds: Vec<(f64, kurbo::Vec2)> = curve
+        .to_beziers()
+        .iter()
+        .map(|pb| {
+            let du = pb.u1 - pb.u0;
+            let b = &pb.bez;
+            let d3 = (b.p3.to_vec2() - b.p2.to_vec2() * 3.0 + b.p1.to_vec2() * 3.0
+                - b.p0.to_vec2())
+                * (6.0 / (du * du * du));
+            (du, d3)
+        })
+        .collect();
+    thirds
+        .windows(2)
+        .map(|w| 0.5 * (w[0].0 + w[1].0) * (w[1].1 - w[0].1).hypot2())
+        .sum()
 }
 
 /// Replaces the local (Newton) foot points of a fit by true distances to the whole curve. The
@@ -346,13 +409,13 @@ pub fn least_squares(
     penalised_least_squares(points, params, weights, knots, 0.0)
 }
 
-/// [`least_squares`] plus the fairness term `jerk_weight · ∫‖C‴‖² du`.
+/// [`least_squares`] plus the fairness term `jump_weight · Σₖ hₖ‖C‴(tₖ⁺) − C‴(tₖ⁻)‖²`.
 fn penalised_least_squares(
     points: &[Point],
     params: &[f64],
     weights: &[f64],
     knots: Vec<f64>,
-    jerk_weight: f64,
+    jump_weight: f64,
 ) -> Result<BSpline, FitError> {
     let n_ctrl = knots.len().saturating_sub(DEGREE + 1);
     if n_ctrl < DEGREE + 1 || points.len() != params.len() || points.len() != weights.len() {
@@ -360,23 +423,23 @@ fn penalised_least_squares(
     }
     let mut lsq = BandedLsq::new(&knots);
     let probe = SpanFinder::new(&knots);
-    // Each span's fairness row goes in just before the first sample of a later span, keeping
-    // the rows in column order (see `BandedLsq::add_span_jerk_penalty`).
-    let mut next_penalty = DEGREE;
+    // Knot k's fairness row goes in just before the first sample of span k, keeping the rows in
+    // column order (see `BandedLsq::add_knot_jump_penalty`).
+    let mut next_knot = DEGREE + 1;
     for ((q, &u), &w) in points.iter().zip(params).zip(weights) {
         let span = probe.find(u);
-        if jerk_weight > 0.0 {
-            while next_penalty < span {
-                lsq.add_span_jerk_penalty(next_penalty, jerk_weight);
-                next_penalty += 1;
+        if jump_weight > 0.0 {
+            while next_knot <= span {
+                lsq.add_knot_jump_penalty(next_knot, jump_weight);
+                next_knot += 1;
             }
         }
         lsq.add_sample(span, u, *q, w);
     }
-    if jerk_weight > 0.0 {
-        while next_penalty < n_ctrl {
-            lsq.add_span_jerk_penalty(next_penalty, jerk_weight);
-            next_penalty += 1;
+    if jump_weight > 0.0 {
+        while next_knot < n_ctrl {
+            lsq.add_knot_jump_penalty(next_knot, jump_weight);
+            next_knot += 1;
         }
     }
     let mean = weights.iter().sum::<f64>() / weights.len().max(1) as f64;
@@ -403,7 +466,7 @@ fn fit_segments_penalised(
     weights: &[f64],
     chord: &[f64],
     segments: usize,
-    jerk_weight: f64,
+    jump_weight: f64,
     options: &FitOptions,
 ) -> Result<BSplineFit, FitError> {
     let knots = averaged_knots(chord, segments);
@@ -412,7 +475,7 @@ fn fit_segments_penalised(
     let mut curve;
     let mut pass = 0;
     loop {
-        curve = penalised_least_squares(points, &params, weights, knots.clone(), jerk_weight)?;
+        curve = penalised_least_squares(points, &params, weights, knots.clone(), jump_weight)?;
         let pieces = Pieces::new(curve.to_beziers());
         feet.clear();
         feet.extend(

@@ -11,13 +11,16 @@ use crate::geom::{Point, Vec2};
 
 use super::curve::{DEGREE, basis_functions};
 
-/// Band width of `R`: a cubic basis row has four non-zeros.
-const BAND: usize = DEGREE + 1;
+/// Band width of `R`: a cubic basis row has four non-zeros, a fairness row (the jump of C‴ at an
+/// interior knot, which involves the basis functions of the two spans it joins) five.
+const BAND: usize = DEGREE + 2;
 
-/// A diagonal entry of `R` smaller than this fraction of the largest one means a control point
-/// is (numerically) not determined by the data: a knot span without samples. 1e-10 leaves ample
+/// A diagonal entry of `R` smaller than this fraction of the largest data row's norm means a
+/// control point is (numerically) not determined: a knot span without samples. 1e-10 leaves ample
 /// room above the rounding level (~1e-16 · √m) while flagging genuinely empty spans, whose
-/// diagonal is exactly 0 or only rounding.
+/// diagonal is exactly 0 or only rounding. It is measured against the data rows, not the largest
+/// diagonal: strong fairness rows make some diagonals huge without making the others less
+/// determined.
 pub const RANK_RELATIVE: f64 = 1e-10;
 
 /// Weight of the fairing rows added when the data leave control points undetermined, relative to
@@ -44,17 +47,20 @@ pub struct BandedLsq<'a> {
     z: Vec<Vec2>,
     /// Weighted squared residual left after the rotations (the least-squares objective).
     residual: f64,
+    /// Largest norm of a data row (√w times the basis values), the scale of "determined".
+    data_scale: f64,
 }
 
 impl<'a> BandedLsq<'a> {
     /// An empty system for the clamped cubic B-spline with these knots.
     pub fn new(knots: &'a [f64]) -> Self {
-        let n = knots.len().saturating_sub(BAND);
+        let n = knots.len().saturating_sub(DEGREE + 1);
         BandedLsq {
             knots,
             r: vec![[0.0; BAND]; n],
             z: vec![Vec2::ZERO; n],
             residual: 0.0,
+            data_scale: 0.0,
         }
     }
 
@@ -68,17 +74,19 @@ impl<'a> BandedLsq<'a> {
     pub fn add_sample(&mut self, span: usize, u: f64, q: Point, w: f64) {
         let sw = w.sqrt();
         let b = basis_functions(self.knots, span, u);
-        let row = [b[0] * sw, b[1] * sw, b[2] * sw, b[3] * sw];
+        let row = [b[0] * sw, b[1] * sw, b[2] * sw, b[3] * sw, 0.0];
+        let norm = row.iter().map(|x| x * x).sum::<f64>().sqrt();
+        self.data_scale = self.data_scale.max(norm);
         self.rotate_in(span - DEGREE, row, q.to_vec2() * sw);
     }
 
-    /// Adds a row with non-zeros `row` in columns `first..first + 4` and right-hand side `rhs`.
+    /// Adds a row with non-zeros `row` in columns `first..first + BAND` and right-hand side `rhs`.
     ///
     /// The row is rotated against `R`'s rows `first, first + 1, …` in turn. Row `j` of `R`
-    /// spans columns `j..j + 4`, so each rotation can fill the incoming row one column further
-    /// right: the four-wide window slides until it is all zero (for rows arriving in column
-    /// order, as the samples do, that is after four steps; a row arriving out of order may slide
-    /// to the last column).
+    /// spans columns `j..j + BAND`, so each rotation can fill the incoming row one column further
+    /// right: the window slides until it is all zero (for rows arriving in column order, as the
+    /// samples and fairness rows do, that is after at most `BAND` steps; a row arriving out of
+    /// order may slide to the last column).
     fn rotate_in(&mut self, first: usize, row: [f64; BAND], mut rhs: Vec2) {
         let n = self.r.len();
         let mut w = row;
@@ -101,7 +109,8 @@ impl<'a> BandedLsq<'a> {
                     w[i] = cos * b - sin * a;
                 }
             }
-            w = [w[1], w[2], w[3], 0.0];
+            w.rotate_left(1);
+            w[BAND - 1] = 0.0;
             j += 1;
         }
         self.residual += rhs.hypot2();
@@ -112,47 +121,68 @@ impl<'a> BandedLsq<'a> {
     fn add_fairing(&mut self, w: f64) {
         let sw = w.sqrt();
         for j in 1..self.r.len().saturating_sub(1) {
-            self.rotate_in(j - 1, [sw, -2.0 * sw, sw, 0.0], Vec2::ZERO);
+            self.rotate_in(j - 1, [sw, -2.0 * sw, sw, 0.0, 0.0], Vec2::ZERO);
         }
     }
 
-    /// Adds the fairness term `weight · ∫ ‖C‴(u)‖² du`: on each knot span the cubic's third
-    /// derivative is constant, `C‴ = Σ N‴ⱼ Pⱼ`, so the integral is `Σ_spans Δu · ‖C‴‖²`, one row
-    /// of four non-zeros per span. `N‴ⱼ` is the third finite difference of the basis at four
-    /// equally spaced points of the span divided by `h³` (exact for a cubic up to rounding).
-    pub fn add_jerk_penalty(&mut self, weight: f64) {
-        for k in DEGREE..self.r.len() {
-            self.add_span_jerk_penalty(k, weight);
-        }
-    }
-
-    /// The fairness row of knot span `k` alone (see [`BandedLsq::add_jerk_penalty`]). Adding it
-    /// just before the first sample of span `k + 1` keeps the rows in column order, so each is
-    /// rotated in four steps.
-    pub fn add_span_jerk_penalty(&mut self, k: usize, weight: f64) {
-        if k < DEGREE || k >= self.r.len() {
-            return;
-        }
+    /// The constant third derivatives `N‴_{k−3..=k}` of the four basis functions on the non-empty
+    /// knot span `k`: the third finite difference of the basis at four equally spaced points of
+    /// the span, divided by `h³` (exact for a cubic up to rounding).
+    fn third_derivatives(&self, k: usize) -> [f64; 4] {
         let (a, b) = (self.knots[k], self.knots[k + 1]);
-        if b <= a {
+        let h = (b - a) / 3.0;
+        let v: [[f64; 4]; 4] =
+            std::array::from_fn(|i| basis_functions(self.knots, k, a + h * i as f64));
+        std::array::from_fn(|j| (v[3][j] - 3.0 * v[2][j] + 3.0 * v[1][j] - v[0][j]) / (h * h * h))
+    }
+
+    /// Adds the fairness row of interior knot `k` (between spans `k − 1` and `k`):
+    /// `√(weight·h) · (C‴(k⁺) − C‴(k⁻)) = 0` with `h` the mean length of the two spans.
+    ///
+    /// The jump of the third derivative is Dierckx's smoothing measure (*Curve and Surface
+    /// Fitting with Splines*, §5.2): Σ h·‖jump‖² vanishes exactly for a single cubic, so the
+    /// penalty removes wobbles between knots without pulling the curvature's slope towards zero
+    /// (which ∫‖C‴‖² does, flattening the curvature at a stroke's high-curvature end).
+    /// The row touches control points `k − 4..=k`; add it before the first sample of span `k`
+    /// to keep the rows in column order.
+    pub fn add_knot_jump_penalty(&mut self, k: usize, weight: f64) {
+        if k < DEGREE + 1 || k >= self.r.len() {
             return;
         }
-        let h = (b - a) / 3.0;
-        let v: [[f64; BAND]; 4] =
-            std::array::from_fn(|i| basis_functions(self.knots, k, a + h * i as f64));
-        let scale = (weight * (b - a)).sqrt() / (h * h * h);
-        let row: [f64; BAND] =
-            std::array::from_fn(|j| scale * (v[3][j] - 3.0 * v[2][j] + 3.0 * v[1][j] - v[0][j]));
-        self.rotate_in(k - DEGREE, row, Vec2::ZERO);
+        let (a, m, b) = (self.knots[k - 1], self.knots[k], self.knots[k + 1]);
+        if !(a < m && m < b) {
+            return;
+        }
+        let left = self.third_derivatives(k - 1);
+        let right = self.third_derivatives(k);
+        let scale = (weight * 0.5 * (b - a)).sqrt();
+        // Columns k−4..=k: the left span's basis covers k−4..=k−1, the right span's k−3..=k.
+        let mut row = [0.0; BAND];
+        for j in 0..4 {
+            row[j] -= scale * left[j];
+            row[j + 1] += scale * right[j];
+        }
+        self.rotate_in(k - DEGREE - 1, row, Vec2::ZERO);
+    }
+
+    /// Adds every interior knot's fairness row (see [`BandedLsq::add_knot_jump_penalty`]).
+    pub fn add_jump_penalty(&mut self, weight: f64) {
+        for k in DEGREE + 1..self.r.len() {
+            self.add_knot_jump_penalty(k, weight);
+        }
     }
 
     /// Whether every control point is determined (no tiny diagonal in `R`).
     fn determined(&self) -> Result<(), usize> {
-        let max = self.r.iter().map(|r| r[0].abs()).fold(0.0, f64::max);
+        let scale = if self.data_scale > 0.0 {
+            self.data_scale
+        } else {
+            self.r.iter().map(|r| r[0].abs()).fold(0.0, f64::max)
+        };
         match self
             .r
             .iter()
-            .position(|r| !(r[0].abs() > RANK_RELATIVE * max))
+            .position(|r| !(r[0].abs() > RANK_RELATIVE * scale))
         {
             Some(j) => Err(j),
             None => Ok(()),
@@ -295,11 +325,12 @@ mod tests {
         }
     }
 
-    /// Dense rows of the same system, for the SVD oracle: data rows then jerk rows.
-    fn dense_with_jerk(
+    /// Dense rows of the same system, for the SVD oracle: data rows then knot-jump rows, with
+    /// N‴ obtained independently (a dense fit of each basis function's cubic on its span).
+    fn dense_with_jumps(
         k: &[f64],
         samples: &[(f64, Point)],
-        jerk: f64,
+        weight: f64,
     ) -> (DMatrix<f64>, DVector<f64>, DVector<f64>) {
         let n = k.len() - 4;
         let s = BSpline::new(k.to_vec(), vec![Point::ZERO; n]).expect("valid");
@@ -311,24 +342,24 @@ mod tests {
             r[span - 3..=span].copy_from_slice(&b);
             rows.push((r, q));
         }
-        for kk in 3..n {
+        let third = |kk: usize| -> Vec<f64> {
             let (a, bb) = (k[kk], k[kk + 1]);
-            if bb <= a {
-                continue;
-            }
-            // C‴ on the span from the basis's cubic coefficients, by a dense 4×4 fit of each
-            // basis function: an independent route to N‴.
             let us: Vec<f64> = (0..4)
                 .map(|i| a + (bb - a) * (0.1 + 0.25 * i as f64))
                 .collect();
             let vander = DMatrix::from_fn(4, 4, |i, p| us[i].powi(p as i32));
-            let mut r = vec![0.0; n];
+            let mut d = vec![0.0; n];
             for j in 0..4 {
                 let vals = DVector::from_fn(4, |i, _| s.basis(kk, us[i])[j]);
                 let coef = vander.clone().lu().solve(&vals).expect("Vandermonde");
-                r[kk - 3 + j] = (jerk * (bb - a)).sqrt() * 6.0 * coef[3];
+                d[kk - 3 + j] = 6.0 * coef[3];
             }
-            rows.push((r, Point::ZERO));
+            d
+        };
+        for kk in 4..n {
+            let (l, r) = (third(kk - 1), third(kk));
+            let scale = (weight * 0.5 * (k[kk + 1] - k[kk - 1])).sqrt();
+            rows.push(((0..n).map(|j| scale * (r[j] - l[j])).collect(), Point::ZERO));
         }
         let a = DMatrix::from_fn(rows.len(), n, |i, j| rows[i].0[j]);
         let bx = DVector::from_fn(rows.len(), |i, _| rows[i].1.x);
@@ -337,13 +368,13 @@ mod tests {
     }
 
     #[test]
-    fn jerk_penalty_agrees_with_a_dense_solve_and_is_translation_invariant() {
+    fn jump_penalty_agrees_with_a_dense_solve_and_is_translation_invariant() {
         let k = vec![
             0.0, 0.0, 0.0, 0.0, 0.15, 0.4, 0.55, 0.7, 0.85, 1.0, 1.0, 1.0, 1.0,
         ];
         let n = k.len() - 4;
         let s = BSpline::new(k.clone(), vec![Point::ZERO; n]).expect("valid");
-        let jerk = 1e-5;
+        let weight = 1e-4;
         let mut previous: Option<Vec<Point>> = None;
         for shift in [0.0, 0.7, -1234.5] {
             let samples: Vec<(f64, Point)> = (0..60)
@@ -360,9 +391,9 @@ mod tests {
                 lsq.add_sample(s.find_span(u), u, q, 1.0);
             }
             // Added after all the data: the out-of-order case.
-            lsq.add_jerk_penalty(jerk);
+            lsq.add_jump_penalty(weight);
             let sol = lsq.solve(1.0).expect("determined");
-            let (a, bx, by) = dense_with_jerk(&k, &samples, jerk);
+            let (a, bx, by) = dense_with_jumps(&k, &samples, weight);
             let svd = a.svd(true, true);
             let x = svd.solve(&bx, 1e-14).expect("svd");
             let y = svd.solve(&by, 1e-14).expect("svd");
@@ -384,6 +415,28 @@ mod tests {
                 }
             }
             previous = Some(unshifted);
+        }
+    }
+
+    #[test]
+    fn a_strong_jump_penalty_leaves_a_single_cubic() {
+        // Σ‖jump‖² vanishes exactly for one cubic: data on a cubic are fitted exactly whatever
+        // the weight.
+        let k = vec![0.0, 0.0, 0.0, 0.0, 0.2, 0.5, 0.8, 1.0, 1.0, 1.0, 1.0];
+        let n = k.len() - 4;
+        let s = BSpline::new(k.clone(), vec![Point::ZERO; n]).expect("valid");
+        let cubic = |u: f64| Point::new(u + 2.0 * u * u * u, 3.0 * u * u - u * u * u);
+        let mut lsq = BandedLsq::new(&k);
+        for i in 0..50 {
+            let u = i as f64 / 49.0;
+            lsq.add_sample(s.find_span(u), u, cubic(u), 1.0);
+        }
+        lsq.add_jump_penalty(1e6);
+        let control_points = lsq.solve(1.0).expect("determined").control_points;
+        let fit = BSpline::new(k.clone(), control_points).expect("valid");
+        for i in 0..=20 {
+            let u = i as f64 / 20.0;
+            assert!(fit.eval(u).distance(cubic(u)) < 1e-9);
         }
     }
 

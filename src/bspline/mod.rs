@@ -14,4 +14,6 @@ pub mod lsq;
 pub mod project;
 
 pub use curve::{BSpline, BSplineError, DEGREE};
-pub use fit::{BSplineFit, FitError, FitOptions, Weighting, fit_bspline, least_squares};
+pub use fit::{
+    BSplineFit, FitError, FitOptions, SegmentSearch, Weighting, fit_bspline, least_squares,
+};

@@ -1,8 +1,22 @@
 //! Split candidates: every point where `|κ|` can stop being monotonic or κ can change sign.
 
+use kurbo::{ParamCurve, ParamCurveArclen};
+
 use super::curvature::PieceCurvature;
 use super::poly::MAX_DEGREE;
 use crate::geom::ParamBez;
+
+/// Relative accuracy of the arc lengths carried by the nodes. They only feed the geometric
+/// significance test (a bump's effect on the curve, compared with the tolerance), for which a
+/// part in a million is far finer than needed.
+const ARCLEN_RELATIVE_ACCURACY: f64 = 1e-12;
+
+/// Arc length of `piece` from local parameter 0 to `t`.
+fn arclen_to(piece: &ParamBez, t: f64) -> f64 {
+    let sub = piece.bez.subsegment(0.0..t);
+    let scale = (sub.p3 - sub.p0).hypot() + (sub.p1 - sub.p0).hypot() + (sub.p2 - sub.p1).hypot();
+    sub.arclen(ARCLEN_RELATIVE_ACCURACY * scale.max(f64::MIN_POSITIVE))
+}
 
 /// A split candidate (and, after simplification, a split point).
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -16,6 +30,8 @@ pub(crate) struct Node {
     pub t: f64,
     /// Signed curvature there.
     pub kappa: f64,
+    /// Arc length from the chain's start.
+    pub s: f64,
 }
 
 impl Node {
@@ -45,6 +61,7 @@ pub(crate) fn candidates(
     u_tolerance: f64,
 ) -> Vec<Node> {
     let mut nodes = Vec::with_capacity(pieces.len() * (MAX_DEGREE + 2) + 1);
+    let mut s0 = 0.0;
     for (i, (piece, curvature)) in pieces.iter().zip(curvatures).enumerate() {
         if i == 0 {
             nodes.push(Node {
@@ -52,6 +69,7 @@ pub(crate) fn candidates(
                 piece: 0,
                 t: 0.0,
                 kappa: curvature.kappa(0.0),
+                s: 0.0,
             });
         }
         let du = piece.u1 - piece.u0;
@@ -63,14 +81,15 @@ pub(crate) fn candidates(
         );
         // Merge the two ascending lists.
         loop {
-            let t = match (a.peek(), b.peek()) {
-                (Some(&x), Some(&y)) if x <= y => a.next(),
-                (Some(_), Some(_)) => b.next(),
-                (Some(_), None) => a.next(),
-                (None, Some(_)) => b.next(),
+            // (t, whether it is a root of γ: an inflection, where κ is exactly 0)
+            let next = match (a.peek(), b.peek()) {
+                (Some(&x), Some(&y)) if x <= y => a.next().map(|t| (t, true)),
+                (Some(_), Some(_)) => b.next().map(|t| (t, false)),
+                (Some(_), None) => a.next().map(|t| (t, true)),
+                (None, Some(_)) => b.next().map(|t| (t, false)),
                 (None, None) => None,
             };
-            let Some(t) = t else { break };
+            let Some((t, inflection)) = next else { break };
             let near_start = t * du <= u_tolerance;
             let near_end = (1.0 - t) * du <= u_tolerance;
             let u = piece.global(t);
@@ -80,7 +99,10 @@ pub(crate) fn candidates(
                     u,
                     piece: i,
                     t,
-                    kappa: curvature.kappa(t),
+                    // At a root of γ the curvature is 0 by definition; evaluating it would
+                    // give ±1e-20 of rounding, whose sign and size must not decide anything.
+                    kappa: if inflection { 0.0 } else { curvature.kappa(t) },
+                    s: s0 + arclen_to(piece, t),
                 });
             }
         }
@@ -88,11 +110,13 @@ pub(crate) fn candidates(
             Some(next) => 0.5 * (curvature.kappa(1.0) + next.kappa(0.0)),
             None => curvature.kappa(1.0),
         };
+        s0 += arclen_to(piece, 1.0);
         nodes.push(Node {
             u: piece.u1,
             piece: i,
             t: 1.0,
             kappa,
+            s: s0,
         });
     }
     nodes

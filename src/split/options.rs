@@ -45,6 +45,14 @@ pub struct SplitOptions {
     /// it absorbs the rounding of knot values computed upstream (a few ulps of `u`). Must be in
     /// `[0, 1e-3]`.
     pub joint_tolerance: f64,
+    /// The fitting tolerance (a distance, in the curve's units): a neighbouring pair of nodes of
+    /// one curvature sign, `ℓ` apart in arc length, whose curvature magnitudes differ by `δκ` is
+    /// also noise when `δκ·ℓ²/8 < tolerance`, the bump moving the curve by less than the samples
+    /// can resolve. (Pairs that involve an inflection are left to the relative and straight
+    /// thresholds, so spans keep one curvature sign.)
+    /// Default `0` (test off: the split alone does not know the tolerance); the pipeline sets
+    /// it to the B-spline's fitting tolerance. Must be finite and `≥ 0`.
+    pub tolerance: f64,
 }
 
 impl SplitOptions {
@@ -54,6 +62,7 @@ impl SplitOptions {
         straight_relative: 0.02,
         straight_turning: 0.01,
         joint_tolerance: 1e-9,
+        tolerance: 0.0,
     };
 
     /// Largest accepted [`SplitOptions::joint_tolerance`]: a thousandth of the parameter range
@@ -81,6 +90,12 @@ impl SplitOptions {
     /// Sets [`SplitOptions::joint_tolerance`].
     pub const fn with_joint_tolerance(mut self, value: f64) -> Self {
         self.joint_tolerance = value;
+        self
+    }
+
+    /// Sets [`SplitOptions::tolerance`].
+    pub const fn with_tolerance(mut self, value: f64) -> Self {
+        self.tolerance = value;
         self
     }
 
@@ -114,7 +129,9 @@ impl SplitOptions {
             j,
             (0.0..=Self::MAX_JOINT_TOLERANCE).contains(&j),
             "0 <= value <= 1e-3",
-        )
+        )?;
+        let t = self.tolerance;
+        check("tolerance", t, t >= 0.0, "finite, >= 0")
     }
 }
 
@@ -135,14 +152,16 @@ mod tests {
             .with_extremum_relative(0.1)
             .with_straight_relative(0.0)
             .with_straight_turning(0.5)
-            .with_joint_tolerance(1e-6);
+            .with_joint_tolerance(1e-6)
+            .with_tolerance(0.25);
         assert_eq!(
             O,
             SplitOptions {
                 extremum_relative: 0.1,
                 straight_relative: 0.0,
                 straight_turning: 0.5,
-                joint_tolerance: 1e-6
+                joint_tolerance: 1e-6,
+                tolerance: 0.25,
             }
         );
         assert_eq!(O.validate(), Ok(()));

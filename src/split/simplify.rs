@@ -18,20 +18,39 @@
 
 use super::candidates::Node;
 
+/// Two pairs whose curvature differences agree to this fraction of the larger magnitude are a
+/// tie: a few hundred ulps, far below any real difference and far above rounding.
+const PERSISTENCE_TIE: f64 = 1e-12;
+
 /// When two neighbouring nodes' curvature magnitudes differ insignificantly:
-/// `|a − b| < max(relative · max(a, b), floor)`.
+/// `|a − b| < max(relative · max(a, b), floor)`, or, with a tolerance and both nodes of one
+/// curvature sign, when the bump they bound changes the curve by less than it:
+/// `|a − b|·ℓ²/8 < tolerance` for nodes `ℓ` apart in arc length. (A curvature change `δκ` spread over a stretch `ℓ` whose ends are held moves its middle
+/// by about `δκ·ℓ²/8`, the sagitta of the bend: below the fitting tolerance the samples cannot
+/// tell the bump from no bump.)
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub(crate) struct Significance {
     /// [`SplitOptions::extremum_relative`](super::SplitOptions::extremum_relative).
     pub relative: f64,
     /// `κ_straight` (see [`SplitOptions`](super::SplitOptions)).
     pub floor: f64,
+    /// [`SplitOptions::tolerance`](super::SplitOptions::tolerance); 0 disables the test.
+    pub tolerance: f64,
 }
 
 impl Significance {
-    /// Whether magnitudes `a` and `b` differ insignificantly.
-    pub(crate) fn insignificant(&self, a: f64, b: f64) -> bool {
-        (a - b).abs() < (self.relative * a.max(b)).max(self.floor)
+    /// Whether nodes `a` and `b` differ insignificantly.
+    pub(crate) fn insignificant(&self, a: &Node, b: &Node) -> bool {
+        let (ka, kb) = (a.magnitude(), b.magnitude());
+        let difference = (ka - kb).abs();
+        if difference < (self.relative * ka.max(kb)).max(self.floor) {
+            return true;
+        }
+        // Only a bump within one curvature sign: cancelling a pair that involves an inflection
+        // (κ = 0 exactly) would leave a span whose curvature changes sign.
+        let same_sign = a.kappa * b.kappa > 0.0;
+        let ell = (b.s - a.s).abs();
+        same_sign && self.tolerance > 0.0 && difference * ell * ell / 8.0 < self.tolerance
     }
 }
 
@@ -70,10 +89,10 @@ pub(crate) fn simplify(nodes: &mut Vec<Node>, significance: &Significance) {
         // (difference, first index to remove, how many)
         let mut best: Option<(f64, usize, usize)> = None;
         for i in 0..last {
-            let (a, b) = (nodes[i].magnitude(), nodes[i + 1].magnitude());
-            if !significance.insignificant(a, b) {
+            if !significance.insignificant(&nodes[i], &nodes[i + 1]) {
                 continue;
             }
+            let (a, b) = (nodes[i].magnitude(), nodes[i + 1].magnitude());
             let removal = if i == 0 {
                 (1, 1)
             } else if i + 1 == last {
@@ -82,7 +101,10 @@ pub(crate) fn simplify(nodes: &mut Vec<Node>, significance: &Significance) {
                 (i, 2)
             };
             let difference = (a - b).abs();
-            if best.is_none_or(|(d, _, _)| difference < d) {
+            // Equal differences (a symmetric bump, up to rounding) go to the earlier pair, so
+            // rounding never picks which one survives.
+            let tie = PERSISTENCE_TIE * a.max(b);
+            if best.is_none_or(|(d, _, _)| difference < d - tie) {
                 best = Some((difference, removal.0, removal.1));
             }
         }
@@ -106,6 +128,7 @@ mod tests {
                 piece: 0,
                 t: 0.0,
                 kappa,
+                s: i as f64,
             })
             .collect()
     }
@@ -133,6 +156,7 @@ mod tests {
         let sig = Significance {
             relative: 0.05,
             floor: 1e-3,
+            tolerance: 0.0,
         };
         // 1.0 → 2.0 (max) → 1.96 (min, 2 % below) → 1.99 (max) → 0.5: the 1.96/1.99 pair goes.
         let mut n = nodes(&[1.0, 2.0, 1.96, 1.99, 0.5]);
@@ -149,6 +173,7 @@ mod tests {
         let sig = Significance {
             relative: 0.05,
             floor: 1e-3,
+            tolerance: 0.0,
         };
         let mut n = nodes(&[1.0, 1.02, 3.0, 2.0]);
         simplify(&mut n, &sig);
@@ -160,6 +185,7 @@ mod tests {
         let sig = Significance {
             relative: 0.05,
             floor: 1e-2,
+            tolerance: 0.0,
         };
         // A near-straight stretch: inflections (0) and tiny lobes (±1e-3) between two real lobes.
         let mut n = nodes(&[0.2, 1.0, 0.0, -1e-3, 0.0, 2e-3, 0.0, -1e-3, 0.0, 1.5, 0.3]);
@@ -177,11 +203,42 @@ mod tests {
         let sig = Significance {
             relative: 0.05,
             floor: 0.0,
+            tolerance: 0.0,
         };
         let mut n = nodes(&[1.0, 5.0, 4.9, 5.05, 3.0, 3.1, 1.0]);
         simplify(&mut n, &sig);
         let v = values(&n);
         assert_eq!(v.len(), 3, "{v:?}");
         assert!(v[1] >= 5.0);
+    }
+
+    #[test]
+    fn a_bump_the_tolerance_cannot_resolve_is_cancelled() {
+        // A 20 % dip between two maxima (1.0 → 0.8 → 1.0, 0.5 length units each side):
+        // δκ·ℓ²/8 = 0.2·0.25/8 = 0.00625. Kept with a tolerance of 0.005, cancelled with 0.01.
+        let at = |s: f64, kappa: f64| Node {
+            u: s,
+            piece: 0,
+            t: 0.0,
+            kappa,
+            s,
+        };
+        let bump = [
+            at(0.0, 0.5),
+            at(1.0, 1.0),
+            at(1.5, 0.8),
+            at(2.0, 1.0),
+            at(3.0, 0.2),
+        ];
+        for (tolerance, expected) in [(0.005, 5), (0.01, 3)] {
+            let sig = Significance {
+                relative: 0.05,
+                floor: 1e-3,
+                tolerance,
+            };
+            let mut n = bump.to_vec();
+            simplify(&mut n, &sig);
+            assert_eq!(n.len(), expected, "tolerance {tolerance}: {:?}", values(&n));
+        }
     }
 }

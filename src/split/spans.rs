@@ -46,6 +46,7 @@ pub fn split_spans(pieces: &[ParamBez], options: &SplitOptions) -> Result<Spans,
         &Significance {
             relative: options.extremum_relative,
             floor: straight,
+            tolerance: options.tolerance,
         },
     );
     Ok(assemble(pieces, &nodes, straight))
