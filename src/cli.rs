@@ -39,7 +39,7 @@ pub struct FitSettings {
     /// Turning angle (degrees) above which the stroke is cut at a corner.
     #[arg(long, default_value_t = 70.0)]
     pub corner_angle: f64,
-    /// Keep the pen's landing and lifting hooks instead of dropping them.
+    /// Keep the pen's landing and lifting as drawn (hooks and dwell) instead of dropping them.
     #[arg(long)]
     pub keep_hooks: bool,
 }

@@ -4,7 +4,7 @@
 //! [`fit_bspline`] → [`split_spans`] → [`CurveFit`].
 
 use crate::bspline::{BSplineFit, FitError, FitOptions, SegmentSearch, fit_bspline};
-use crate::prepare::{CornerOptions, PieceEnd, prepare};
+use crate::prepare::{CornerOptions, DwellOptions, PieceEnd, prepare};
 use crate::split::{Spans, SplitError, SplitKind, SplitOptions, split_spans};
 use crate::stroke::{Stroke, StrokeFile, Units};
 
@@ -16,7 +16,7 @@ pub struct PipelineOptions {
     pub tolerance: Option<f64>,
     /// Corner turning angle, degrees. Default 70 (see [`CornerOptions`]).
     pub corner_angle: f64,
-    /// Keep the pen's landing and lifting hooks. Default false.
+    /// Keep the pen's landing and lifting as drawn: its hooks and its dwell. Default false.
     pub keep_hooks: bool,
     /// Upper bound on B-spline segments per piece. Default 4096.
     pub max_segments: usize,
@@ -141,11 +141,28 @@ pub fn fit_stroke(
         .with_max_segments(options.max_segments)
         .with_fairing(options.fair)
         .with_search(options.search);
-    let pieces = prepare(stroke, &options.corner_options(tolerance));
+    let dwell = if options.keep_hooks {
+        // Keeping the pen's landing and lifting as drawn keeps its dwell too.
+        DwellOptions {
+            min_samples: usize::MAX,
+            ..DwellOptions::for_tolerance(tolerance)
+        }
+    } else {
+        DwellOptions::for_tolerance(tolerance)
+    };
+    let pieces = prepare(stroke, &options.corner_options(tolerance), &dwell);
     pieces
         .iter()
         .map(|piece| {
             let (first, last) = piece.samples;
+            // A corner is shared: both pieces pass exactly through the corner sample (G0).
+            let at_corner = |end: PieceEnd, p: Option<&crate::geom::Point>| {
+                p.copied().filter(|_| end == PieceEnd::Corner)
+            };
+            let fit_options = fit_options.with_ends(
+                at_corner(piece.start, piece.points.first()),
+                at_corner(piece.end, piece.points.last()),
+            );
             let bspline =
                 fit_bspline(&piece.points, &fit_options).map_err(|source| PipelineError::Fit {
                     stroke: index,

@@ -53,6 +53,11 @@ pub struct FitOptions {
     pub fair: bool,
     /// The segment-count search. Default [`SegmentSearch::DoublingBisection`].
     pub search: SegmentSearch,
+    /// A point the curve must start at exactly (its first control point), e.g. a corner shared
+    /// with the previous piece. Default `None`: the start is free like every other point.
+    pub start: Option<Point>,
+    /// A point the curve must end at exactly. Default `None`.
+    pub end: Option<Point>,
 }
 
 /// Segment multiplier for the fairing pass: the extra freedom is what the penalty trades for
@@ -81,7 +86,16 @@ impl FitOptions {
             weighting: Weighting::ArcLength,
             fair: true,
             search: SegmentSearch::DoublingBisection,
+            start: None,
+            end: None,
         }
+    }
+
+    /// Sets [`FitOptions::start`] and [`FitOptions::end`].
+    pub const fn with_ends(mut self, start: Option<Point>, end: Option<Point>) -> Self {
+        self.start = start;
+        self.end = end;
+        self
     }
 
     /// Sets [`FitOptions::search`].
@@ -199,12 +213,12 @@ pub fn fit_bspline(points: &[Point], options: &FitOptions) -> Result<BSplineFit,
         return Err(FitError::TooFewPoints(1));
     }
     let centre = lo.midpoint(hi);
-    let unit: Vec<Point> = points
-        .iter()
-        .map(|p| ((*p - centre) / size).to_point())
-        .collect();
+    let to_unit = |p: Point| ((p - centre) / size).to_point();
+    let unit: Vec<Point> = points.iter().map(|p| to_unit(*p)).collect();
     let unit_options = FitOptions {
         tolerance: options.tolerance / size,
+        start: options.start.map(to_unit),
+        end: options.end.map(to_unit),
         ..*options
     };
     let fit = fit_unit(&unit, &unit_options)?;
@@ -243,7 +257,7 @@ fn fit_unit(points: &[Point], options: &FitOptions) -> Result<BSplineFit, FitErr
         return Err(FitError::TooFewPoints(distinct));
     };
     if distinct < DEGREE + 1 {
-        return Ok(fit_line(points, options.tolerance));
+        return Ok(fit_line(points, options));
     }
     let weights = weights(points, options.weighting);
     let max_segments = options.max_segments.clamp(1, distinct - DEGREE);
@@ -319,6 +333,7 @@ fn fair(
         });
     }
     let knots = plain.curve.knots().to_vec();
+    let ends = (options.start, options.end);
     let params = plain.params.clone();
     let m = points.len() as f64;
     // Data term: Σ wᵢ‖rᵢ‖² with mean weight 1, so its budget is m·tol²; the penalty of the
@@ -334,7 +349,7 @@ fn fair(
         // A trial whose solve fails (not expected: fairness rows only add rank) counts as a
         // failing weight, never as a failed fit: the fallback always exists.
         let Ok(curve) =
-            penalised_least_squares(points, &params, weights, knots.clone(), mid.exp() * m)
+            penalised_least_squares(points, &params, weights, knots.clone(), mid.exp() * m, ends)
         else {
             hi = mid;
             continue;
@@ -406,7 +421,7 @@ pub fn least_squares(
     weights: &[f64],
     knots: Vec<f64>,
 ) -> Result<BSpline, FitError> {
-    penalised_least_squares(points, params, weights, knots, 0.0)
+    penalised_least_squares(points, params, weights, knots, 0.0, (None, None))
 }
 
 /// [`least_squares`] plus the fairness term `jump_weight · Σₖ hₖ‖C‴(tₖ⁺) − C‴(tₖ⁻)‖²`.
@@ -416,12 +431,20 @@ fn penalised_least_squares(
     weights: &[f64],
     knots: Vec<f64>,
     jump_weight: f64,
+    ends: (Option<Point>, Option<Point>),
 ) -> Result<BSpline, FitError> {
     let n_ctrl = knots.len().saturating_sub(DEGREE + 1);
     if n_ctrl < DEGREE + 1 || points.len() != params.len() || points.len() != weights.len() {
         return Err(FitError::TooFewPoints(points.len()));
     }
     let mut lsq = BandedLsq::new(&knots);
+    // A clamped spline starts at its first control point and ends at its last.
+    if let Some(p) = ends.0 {
+        lsq.fix(0, p);
+    }
+    if let Some(p) = ends.1 {
+        lsq.fix(n_ctrl - 1, p);
+    }
     let probe = SpanFinder::new(&knots);
     // Knot k's fairness row goes in just before the first sample of span k, keeping the rows in
     // column order (see `BandedLsq::add_knot_jump_penalty`).
@@ -475,7 +498,14 @@ fn fit_segments_penalised(
     let mut curve;
     let mut pass = 0;
     loop {
-        curve = penalised_least_squares(points, &params, weights, knots.clone(), jump_weight)?;
+        curve = penalised_least_squares(
+            points,
+            &params,
+            weights,
+            knots.clone(),
+            jump_weight,
+            (options.start, options.end),
+        )?;
         let pieces = Pieces::new(curve.to_beziers());
         feet.clear();
         feet.extend(
@@ -614,7 +644,8 @@ fn weights(points: &[Point], weighting: Weighting) -> Vec<f64> {
 const MIN_RELATIVE_WEIGHT: f64 = 1e-6;
 
 /// The least-squares line through a handful of points, as a one-segment cubic.
-fn fit_line(points: &[Point], tolerance: f64) -> BSplineFit {
+fn fit_line(points: &[Point], options: &FitOptions) -> BSplineFit {
+    let tolerance = options.tolerance;
     let n = points.len() as f64;
     let c = points.iter().fold(Point::ZERO, |a, p| a + p.to_vec2() / n);
     let (mut sxx, mut sxy, mut syy) = (0.0, 0.0, 0.0);
@@ -629,20 +660,24 @@ fn fit_line(points: &[Point], tolerance: f64) -> BSplineFit {
     let dir = kurbo::Vec2::new(angle.cos(), angle.sin());
     let ts: Vec<f64> = points.iter().map(|p| (*p - c).dot(dir)).collect();
     let (t0, t1) = (ts[0], ts[ts.len() - 1]);
-    let (a, b) = (c + dir * t0, c + dir * t1);
+    let a = options.start.unwrap_or(c + dir * t0);
+    let b = options.end.unwrap_or(c + dir * t1);
     let control_points = vec![a, a.lerp(b, 1.0 / 3.0), a.lerp(b, 2.0 / 3.0), b];
     let curve = match BSpline::new(BSpline::uniform_knots(1), control_points) {
         Ok(c) => c,
         // Unreachable for finite input (validated at the boundary); keep a clean fallback.
-        Err(_) => return fit_line(&points[..1.min(points.len())], tolerance),
+        Err(_) => return fit_line(&points[..1.min(points.len())], options),
     };
     let pieces = Pieces::new(curve.to_beziers());
-    let span = t1 - t0;
+    let chord = b - a;
     let feet: Vec<Foot> = points
         .iter()
-        .zip(&ts)
-        .map(|(q, &t)| {
-            let guess = if span != 0.0 { (t - t0) / span } else { 0.0 };
+        .map(|q| {
+            let guess = if chord.hypot2() > 0.0 {
+                (*q - a).dot(chord) / chord.hypot2()
+            } else {
+                0.0
+            };
             let local = pieces.project_local(*q, guess.clamp(0.0, 1.0));
             pieces.distance(*q, local)
         })

@@ -49,6 +49,9 @@ pub struct BandedLsq<'a> {
     residual: f64,
     /// Largest norm of a data row (√w times the basis values), the scale of "determined".
     data_scale: f64,
+    /// Control points held at given values (eliminated from the unknowns): the clamped ends,
+    /// where the curve must pass exactly through a point (a corner shared with the neighbour).
+    fixed: Vec<Option<Vec2>>,
 }
 
 impl<'a> BandedLsq<'a> {
@@ -61,6 +64,16 @@ impl<'a> BandedLsq<'a> {
             z: vec![Vec2::ZERO; n],
             residual: 0.0,
             data_scale: 0.0,
+            fixed: vec![None; n],
+        }
+    }
+
+    /// Holds control point `j` at `p`: every row added afterwards has its column `j` moved to
+    /// the right-hand side. For a clamped spline, fixing control point 0 (or the last) makes
+    /// the curve start (or end) exactly at `p`. Call before adding rows.
+    pub fn fix(&mut self, j: usize, p: Point) {
+        if let Some(f) = self.fixed.get_mut(j) {
+            *f = Some(p.to_vec2());
         }
     }
 
@@ -90,6 +103,13 @@ impl<'a> BandedLsq<'a> {
     fn rotate_in(&mut self, first: usize, row: [f64; BAND], mut rhs: Vec2) {
         let n = self.r.len();
         let mut w = row;
+        // Known columns go to the right-hand side.
+        for (c, x) in w.iter_mut().enumerate() {
+            if let Some(Some(p)) = self.fixed.get(first + c) {
+                rhs -= *p * *x;
+                *x = 0.0;
+            }
+        }
         let mut j = first;
         while j < n && w.iter().any(|&x| x != 0.0) {
             let piv = w[0];
@@ -182,7 +202,8 @@ impl<'a> BandedLsq<'a> {
         match self
             .r
             .iter()
-            .position(|r| !(r[0].abs() > RANK_RELATIVE * scale))
+            .zip(&self.fixed)
+            .position(|(r, f)| f.is_none() && !(r[0].abs() > RANK_RELATIVE * scale))
         {
             Some(j) => Err(j),
             None => Ok(()),
@@ -201,6 +222,10 @@ impl<'a> BandedLsq<'a> {
         let n = self.r.len();
         let mut x = vec![Vec2::ZERO; n];
         for j in (0..n).rev() {
+            if let Some(p) = self.fixed[j] {
+                x[j] = p;
+                continue;
+            }
             let mut acc = self.z[j];
             for c in 1..BAND {
                 if j + c < n {
@@ -472,6 +497,51 @@ mod tests {
             for (p, q) in a.iter().zip(&other) {
                 assert!(p.distance(*q) < 1e-10, "{p:?} vs {q:?}");
             }
+        }
+    }
+
+    #[test]
+    fn fixed_ends_are_interpolated_and_the_rest_is_least_squares() {
+        let k = vec![
+            0.0, 0.0, 0.0, 0.0, 0.15, 0.4, 0.55, 0.7, 0.85, 1.0, 1.0, 1.0, 1.0,
+        ];
+        let n = k.len() - 4;
+        let s = BSpline::new(k.clone(), vec![Point::ZERO; n]).expect("valid");
+        let samples: Vec<(f64, Point)> = (0..80)
+            .map(|i| {
+                let u = i as f64 / 79.0;
+                (
+                    u,
+                    Point::new(10.0 * u, (6.0 * u).sin() + 0.05 * (40.0 * u).cos()),
+                )
+            })
+            .collect();
+        let (a, b) = (Point::new(-0.3, 0.2), Point::new(10.2, -0.1));
+        let mut lsq = BandedLsq::new(&k);
+        lsq.fix(0, a);
+        lsq.fix(n - 1, b);
+        for &(u, q) in &samples {
+            lsq.add_sample(s.find_span(u), u, q, 1.0);
+        }
+        lsq.add_jump_penalty(1e-6);
+        let sol = lsq.solve(1.0).expect("determined");
+        assert_eq!(sol.control_points[0], a);
+        assert_eq!(sol.control_points[n - 1], b);
+        // The free points are the dense least-squares solution with the fixed columns moved
+        // to the right-hand side.
+        let (m, bx, by) = dense_with_jumps(&k, &samples, 1e-6);
+        let free = m.columns(1, n - 2).into_owned();
+        let rx = &bx - m.column(0) * a.x - m.column(n - 1) * b.x;
+        let ry = &by - m.column(0) * a.y - m.column(n - 1) * b.y;
+        let svd = free.svd(true, true);
+        let x = svd.solve(&rx, 1e-14).expect("svd");
+        let y = svd.solve(&ry, 1e-14).expect("svd");
+        for j in 1..n - 1 {
+            let p = sol.control_points[j];
+            assert!(
+                (p.x - x[j - 1]).abs() < 1e-8 && (p.y - y[j - 1]).abs() < 1e-8,
+                "P{j}"
+            );
         }
     }
 }

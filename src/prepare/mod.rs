@@ -1,20 +1,23 @@
-//! Preparing a stroke for fitting: merge duplicate samples, cut it at corners, drop the pen's
-//! landing and lifting hooks.
+//! Preparing a stroke for fitting: merge duplicate samples, trim the pen's dwell at either end,
+//! drop its landing and lifting hooks, cut the stroke at corners.
 //!
 //! In: a validated [`crate::stroke::Stroke`]. Out: [`Piece`]s, each a run of distinct points to be
 //! fitted by one B-spline, with the inclusive range of original sample indices it represents, and
 //! how each end came about ([`PieceEnd`]). Samples in a dropped hook belong to no piece.
 //!
-//! Dwell (samples piling up at almost zero speed) needs no cutting here: the fit weighs each
-//! sample by the arc length it covers ([`crate::bspline::Weighting::ArcLength`]), so a dwell's
-//! samples weigh almost nothing and do not bias the end tangents, yet every one of them is still
-//! held to the tolerance.
+//! Dwell at the ends (samples piling up at almost zero speed, scattered by tremor) is trimmed
+//! ([`dwell`]): a curve held to the tolerance of every such sample would have to loop into the
+//! cloud. Elsewhere the fit weighs each sample by the arc length it covers
+//! ([`crate::bspline::Weighting::ArcLength`]), so a slow stretch's many samples do not outweigh a
+//! fast one's few.
 
 mod corners;
 mod dedup;
+pub mod dwell;
 
 pub use corners::{CornerOptions, find_corners, turning_angles};
 pub use dedup::{Distinct, merge_duplicates};
+pub use dwell::{DwellOptions, trim_dwell};
 
 use crate::geom::Point;
 use crate::stroke::Stroke;
@@ -28,6 +31,8 @@ pub enum PieceEnd {
     Corner,
     /// A hook was dropped beyond this end.
     Hook,
+    /// Dwell samples were trimmed beyond this end.
+    Dwell,
 }
 
 /// A run of distinct points between corners.
@@ -46,31 +51,41 @@ pub struct Piece {
 }
 
 /// Splits a stroke into pieces (see the module doc).
-pub fn prepare(stroke: &Stroke, options: &CornerOptions) -> Vec<Piece> {
+pub fn prepare(stroke: &Stroke, options: &CornerOptions, dwell: &DwellOptions) -> Vec<Piece> {
     let distinct = merge_duplicates(stroke);
     let n = distinct.points.len();
     if n == 0 {
         return Vec::new();
     }
-    let cuts = find_corners(&distinct.points, options);
-    let mut start = 0;
-    let mut start_kind = PieceEnd::StrokeEnd;
+    let (lo, hi) = trim_dwell(&distinct.points, dwell);
+    let cuts = find_corners(&distinct.points[lo..=hi], options);
+    let mut start = lo;
+    let mut start_kind = if lo > 0 {
+        PieceEnd::Dwell
+    } else {
+        PieceEnd::StrokeEnd
+    };
     if let Some(h) = cuts.start_hook {
-        start = h;
+        start = lo + h;
         start_kind = PieceEnd::Hook;
     }
-    let mut last = n - 1;
-    let mut last_kind = PieceEnd::StrokeEnd;
+    let mut last = hi;
+    let mut last_kind = if hi < n - 1 {
+        PieceEnd::Dwell
+    } else {
+        PieceEnd::StrokeEnd
+    };
     if let Some(h) = cuts.end_hook {
-        last = h;
+        last = lo + h;
         last_kind = PieceEnd::Hook;
     }
     let mut bounds: Vec<(usize, PieceEnd)> = vec![(start, start_kind)];
     bounds.extend(
         cuts.corners
             .iter()
-            .filter(|&&c| c > start && c < last)
-            .map(|&c| (c, PieceEnd::Corner)),
+            .map(|&c| lo + c)
+            .filter(|&c| c > start && c < last)
+            .map(|c| (c, PieceEnd::Corner)),
     );
     bounds.push((last, last_kind));
     bounds
@@ -78,12 +93,12 @@ pub fn prepare(stroke: &Stroke, options: &CornerOptions) -> Vec<Piece> {
         .map(|w| {
             let ((a, ka), (b, kb)) = (w[0], w[1]);
             let first_sample = distinct.first[a];
-            // A piece ending at a corner shares the corner sample with the next piece; the last
-            // piece also owns the duplicates merged into its final point.
-            let last_sample = if kb == PieceEnd::Corner {
-                distinct.first[b]
-            } else {
-                distinct.last[b]
+            // A piece ending at a corner shares the corner sample with the next piece, one
+            // ending where samples were dropped ends at its last kept sample; the stroke's own
+            // last piece also owns the duplicates merged into its final point.
+            let last_sample = match kb {
+                PieceEnd::StrokeEnd => distinct.last[b],
+                PieceEnd::Corner | PieceEnd::Hook | PieceEnd::Dwell => distinct.first[b],
             };
             Piece {
                 points: distinct.points[a..=b].to_vec(),
