@@ -12,7 +12,7 @@
 //!   κ = 0 end of α < 0 curves.
 //! * [`segment`]: the canonical segment record ([`LacSegment`], JSON via serde) and its evaluation,
 //!   including the rendering fast path [`LacSegment::samples`].
-//! * [`error`]: [`LacError`].
+//! * [`error`]: the typed errors, [`LacError`].
 
 pub mod error;
 pub mod quadrature;

@@ -52,22 +52,29 @@ pub const PANEL_BRANCH_LOG: f64 = 1.098_612_288_668_109_8; // ln 3
 /// reach 1e-18.
 pub const TAIL_MAX_TURNING: f64 = 0.5;
 
-/// The tail series computes ∫_a^b as F(r_a) − F(r_b), whose rounding error is ≈ 1e-16·(s_max − a).
-/// It is only used when s_max − a ≤ this factor times (b − a), keeping that error below 1e-15 of
-/// the integration length; otherwise the graded panels (which are just as accurate) are used.
+/// The tail series computes ∫_a^b as (r_a − r_b) (exact, from b − a) plus the difference of the
+/// k ≥ 1 terms, whose rounding error is ≈ 1e-16·g(a)·(s_max − a). It is only used when
+/// g(a)·(s_max − a) ≤ this factor times (b − a), keeping that error below 1e-15 of the
+/// integration length; otherwise the graded panels (just as accurate, but more of them) are used.
+/// Weighting by g matters for α → 0⁻, where ρ grows so fast near the κ = 0 end that graded panels
+/// would need ~1/|α| of them, while the turning left (hence g) is tiny.
 pub const TAIL_REACH: f64 = 4.0;
 
-/// ∫_a^b e^{iθ(s)} ds on the standard form by adaptive panels (0 ≤ a ≤ b, b ≤ s_max for α < 0).
-pub(crate) fn integrate(lac: &StandardLac, a: f64, b: f64) -> Vec2 {
+/// ∫_a^b e^{iθ(s)} ds (as a complex number) on the standard form by adaptive panels, for
+/// 0 ≤ a ≤ b ≤ s_max. Always numerical, whatever α: [`StandardLac::point`] dispatches to the
+/// closed forms for α = 1, 2; this entry point exists to cross-check them.
+pub fn integrate(lac: &StandardLac, a: f64, b: f64) -> Vec2 {
+    let s_max = lac.s_max();
+    let b = s_max.map_or(b, |sm| b.min(sm));
     let mut acc = Vec2::ZERO;
     let mut lo = a;
-    let s_max = lac.s_max();
     while lo < b {
-        if let (Some(sm), Some(g)) = (s_max, lac.remaining_turning(lo)) {
-            if g <= TAIL_MAX_TURNING && sm - lo <= TAIL_REACH * (b - lo) {
-                acc += tail(lac, sm, lo, b);
-                break;
-            }
+        if let (Some(sm), Some(g)) = (s_max, lac.remaining_turning(lo))
+            && g <= TAIL_MAX_TURNING
+            && g * (sm - lo) <= TAIL_REACH * (b - lo)
+        {
+            acc += tail(lac, sm, lo, b);
+            break;
         }
         let mut hi = (lo + panel_width(lac, lo)).min(b);
         if hi <= lo {
@@ -81,7 +88,7 @@ pub(crate) fn integrate(lac: &StandardLac, a: f64, b: f64) -> Vec2 {
 }
 
 /// Width of the panel starting at `a` (rules 1 and 2 of the module documentation).
-pub(crate) fn panel_width(lac: &StandardLac, a: f64) -> f64 {
+fn panel_width(lac: &StandardLac, a: f64) -> f64 {
     let ln_rho = lac.ln_rho(a);
     let by_turning = PANEL_MAX_TURNING * ln_rho.exp();
     let alpha = lac.alpha();
@@ -115,16 +122,17 @@ fn tail(lac: &StandardLac, s_max: f64, a: f64, b: f64) -> Vec2 {
     let alpha = lac.alpha();
     let p = (alpha - 1.0) / alpha;
     let theta_max = 1.0 / ((1.0 - alpha) * lac.lambda());
-    // r = 1 + αΛs = ρ^α; from ln ρ to stay exact (r = 0) at the κ = 0 end.
+    // r = 1 + αΛs = ρ^α, from ln ρ to stay exact (r = 0) at the κ = 0 end.
     let r = |s: f64| (alpha * lac.ln_rho(s)).exp();
-    let f = |r: f64| -> Vec2 {
+    // F(r) − r = r·Σ_{k≥1} (−i g)^k / (k!(pk + 1)), g = θ_max r^p.
+    let f1 = |r: f64| -> Vec2 {
         if r <= 0.0 {
             return Vec2::ZERO;
         }
         let g = theta_max * r.powf(p);
         let step = Vec2::new(0.0, -g);
         let mut power = Vec2::new(1.0, 0.0); // (−ig)^k / k!
-        let mut sum = power;
+        let mut sum = Vec2::ZERO;
         for k in 1..SERIES_MAX_TERMS {
             power = cmul(power, step) * (1.0 / k as f64);
             let term = power * (1.0 / (p * k as f64 + 1.0));
@@ -135,6 +143,7 @@ fn tail(lac: &StandardLac, s_max: f64, a: f64, b: f64) -> Vec2 {
         }
         sum * r
     };
-    // ds = −s_max dr: ∫_a^b ds = s_max ∫_{r_b}^{r_a} dr.
-    cmul(cis(theta_max), f(r(a)) - f(r(b))) * s_max
+    // ds = −s_max dr: ∫_a^b ds = s_max ∫_{r_b}^{r_a} dr, and s_max·(r_a − r_b) = b − a exactly.
+    let leading = Vec2::new(b - a, 0.0);
+    cmul(cis(theta_max), leading + (f1(r(a)) - f1(r(b))) * s_max)
 }

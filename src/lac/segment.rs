@@ -173,7 +173,7 @@ impl TryFrom<LacSegmentRecord> for LacSegment {
         )?;
         if let Some([x, y]) = r.end {
             let error = (Point::new(x, y) - seg.end).hypot() / seg.length;
-            if !(error <= DERIVED_FIELD_TOLERANCE) {
+            if error.is_nan() || error > DERIVED_FIELD_TOLERANCE {
                 return Err(LacError::DerivedFieldMismatch {
                     field: "end",
                     error,
@@ -182,7 +182,7 @@ impl TryFrom<LacSegmentRecord> for LacSegment {
         }
         if let Some(theta1) = r.theta1 {
             let error = (theta1 - seg.theta1).abs();
-            if !(error <= DERIVED_FIELD_TOLERANCE) {
+            if error.is_nan() || error > DERIVED_FIELD_TOLERANCE {
                 return Err(LacError::DerivedFieldMismatch {
                     field: "theta1",
                     error,

@@ -169,7 +169,7 @@ impl StandardLac {
     /// Arc length at turning angle θ ≥ 0, the inverse of [`StandardLac::theta`]; `None` when
     /// θ < 0 or θ is beyond the reachable turning (θ > θ_max, or θ = θ_max for 0 ≤ α < 1).
     pub fn s_of_theta(&self, theta: f64) -> Option<f64> {
-        if !(theta >= 0.0) {
+        if theta.is_nan() || theta < 0.0 {
             return None;
         }
         if let Some(tm) = self.theta_max() {
