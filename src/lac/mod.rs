@@ -12,6 +12,7 @@
 //!   κ = 0 end of α < 0 curves.
 //! * [`segment`]: the canonical segment record ([`LacSegment`], JSON via serde) and its evaluation,
 //!   including the rendering fast path [`LacSegment::samples`].
+//! * [`yoshida_saito`]: the segment of a given α joining G1 end data ([`fit_g1`]).
 //! * [`error`]: the typed errors, [`LacError`].
 
 pub mod error;
@@ -19,7 +20,9 @@ pub mod quadrature;
 pub mod segment;
 mod special;
 pub mod standard;
+pub mod yoshida_saito;
 
 pub use error::LacError;
 pub use segment::{LacSample, LacSamples, LacSegment, LacSegmentRecord};
 pub use standard::StandardLac;
+pub use yoshida_saito::fit_g1;
