@@ -58,6 +58,7 @@ fn hermite_round_trip_vectors() {
             .and_then(|s| s.parse().ok())
             .unwrap_or_else(|| panic!("{k} in {e}"))
     };
+    let mut worst: f64 = 0.0;
     for t in trips {
         let alpha = num(t, "alpha");
         let (tu, td, chord) = (
@@ -91,6 +92,12 @@ fn hermite_round_trip_vectors() {
         );
         assert!((sg.end() - b).hypot() <= TOL * s_end, "{what}");
         assert!((sg.theta1() - theta_end).abs() <= TOL, "{what}");
+        worst = worst
+            .max((sg.length() - s_end).abs() / s_end)
+            .max((sg.kappa0() - 1.0).abs())
+            .max((sg.kappa1() - k_end).abs())
+            .max((sg.end() - b).hypot() / s_end)
+            .max((sg.theta1() - theta_end).abs());
         let (std, _, _) = sg.standard_form().expect("a spiral");
         assert!(
             (std.lambda() - 1.0).abs() <= TOL,
@@ -101,6 +108,7 @@ fn hermite_round_trip_vectors() {
         let x_int = b.x - b.y / theta_end.tan();
         assert!((x_int - num(t, "tangent_intersection_x")).abs() < 1e-14);
     }
+    println!("hermite_round_trip: max error (length, κ, end, θ1) {worst:e}");
 }
 
 /// Segments in every orientation (rotated, translated, mirrored, curvature rising or falling)
