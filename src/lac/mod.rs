@@ -1,1 +1,28 @@
-//! Log-aesthetic curves.
+//! Log-aesthetic curves (LAC).
+//!
+//! A log-aesthetic curve has a straight logarithmic curvature graph: its radius of curvature ρ and
+//! arc length s satisfy ρ(s)^α = c0·s + c1 (α ≠ 0) or ρ(s) = c0·e^{c1·s} (α = 0), the tangent angle
+//! is θ′(s) = κ(s) = ±1/ρ(s) and the point is P(s) = P0 + ∫ (cos θ, sin θ) ds (Miura 2006; Yoshida
+//! & Saito 2006; Ziatdinov, Yoshida & Kim 2012). α = 1 is the logarithmic spiral, α = 2 the circle
+//! involute, α = −1 the clothoid, α = 0 Nielsen's spiral.
+//!
+//! * [`standard`]: the normalised form (origin, tangent +x, ρ(0) = 1, shape parameter Λ): κ(s),
+//!   θ(s), s(θ) in closed form, P(s) by closed forms (α = 1, 2) or quadrature.
+//! * [`quadrature`]: adaptive Gauss–Legendre panels graded in ln ρ, with an exact series at the
+//!   κ = 0 end of α < 0 curves.
+//! * [`segment`]: the canonical segment record ([`LacSegment`], JSON via serde) and its evaluation,
+//!   including the rendering fast path [`LacSegment::samples`].
+//! * [`yoshida_saito`]: the segment of a given α joining G1 end data ([`fit_g1`]).
+//! * [`error`]: the typed errors, [`LacError`].
+
+pub mod error;
+pub mod quadrature;
+pub mod segment;
+mod special;
+pub mod standard;
+pub mod yoshida_saito;
+
+pub use error::LacError;
+pub use segment::{LacSample, LacSamples, LacSegment, LacSegmentRecord};
+pub use standard::StandardLac;
+pub use yoshida_saito::fit_g1;

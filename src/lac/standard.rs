@@ -1,0 +1,312 @@
+//! The normalised (standard) form of a log-aesthetic curve, after Yoshida & Saito (2006) and
+//! Ziatdinov, Yoshida & Kim (2012).
+//!
+//! Start at the origin, tangent along +x, radius of curvature ρ(0) = 1, shape parameter Λ ≥ 0,
+//! arc length `s ≥ 0`:
+//!
+//! * ρ(s)^α = 1 + αΛs (α ≠ 0), ρ(s) = e^{Λs} (α = 0); κ = 1/ρ decreases along s (the curve
+//!   "uncurls"); Λ = 0 is the unit circle.
+//! * θ(s) = ∫₀ˢ κ = ((1 + αΛs)^{(α−1)/α} − 1)/(Λ(α−1)), with the limits ln(1 + Λs)/Λ (α = 1) and
+//!   (1 − e^{−Λs})/Λ (α = 0).
+//! * s(θ) = ((1 + Λ(α−1)θ)^{α/(α−1)} − 1)/(αΛ), limits (e^{Λθ} − 1)/Λ (α = 1), −ln(1 − Λθ)/Λ (α = 0).
+//! * For α < 1 the turning is bounded: θ < θ_max = 1/((1 − α)Λ); for α < 0 it is reached at
+//!   s_max = −1/(αΛ), where κ = 0 (table 2.1 of the seed notes).
+//! * P(s) = ∫₀ˢ e^{iθ(u)} du: closed forms for α = 1 (logarithmic spiral) and α = 2 (circle
+//!   involute), adaptive Gauss–Legendre otherwise (see [`super::quadrature`]).
+//!
+//! ## One formula for every α
+//! With ln ρ(s) = Λs·lnrel(αΛs) (`lnrel(y) = ln(1+y)/y`), the closed forms above become
+//!
+//! θ(s) = s·lnrel(αΛs)·exprel((α−1)·ln ρ(s)),   κ(s) = e^{−ln ρ(s)},
+//! s(θ) = θ·lnrel(z)·exprel(α·ln ρ),   ln ρ = Λθ·lnrel(z),   z = Λ(α−1)θ,
+//!
+//! (`exprel(x) = (eˣ − 1)/x`), which are continuous in α and Λ: α = 0, α = 1 and Λ = 0 need no
+//! special case and α near 0 or 1 suffers no cancellation.
+
+use super::error::LacError;
+use super::quadrature;
+use super::special::{SERIES_MAX_TERMS, SERIES_TERM_EPS, cdiv, cexpm1, cis, cmul, exprel, lnrel};
+use crate::geom::{Point, Vec2};
+
+/// Below this turning angle |θ| the circle-involute correction term G(θ) = e^{iθ}(1 − iθ) − 1
+/// is summed as its power series Σ_{n≥2} (1 − n)(iθ)ⁿ/n! instead of evaluated directly: its
+/// imaginary part sin θ − θ cos θ ≈ θ³/3 cancels catastrophically for small θ, while the series
+/// (alternating, leading term dominant for |θ| ≤ 1) keeps full relative accuracy.
+const INVOLUTE_SERIES_BELOW: f64 = 1.0;
+
+/// A log-aesthetic curve in the normalised standard form (see the module documentation).
+///
+/// Internally the linear function y(s) = αΛs is stored as y = m·(s/s_ref) so that a segment
+/// ending exactly at the κ = 0 point of an α < 0 curve evaluates y = −1 (κ = 0) exactly there.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct StandardLac {
+    alpha: f64,
+    lambda: f64,
+    /// Reference arc length s_ref (1 for [`StandardLac::new`], the segment length for spans).
+    s_ref: f64,
+    /// Λ·s_ref.
+    l_ref: f64,
+    /// α·Λ·s_ref (exactly −1 for an α < 0 span that ends where κ = 0).
+    m_ref: f64,
+}
+
+impl StandardLac {
+    /// The standard-form curve with slope `alpha` of the logarithmic curvature graph and shape
+    /// parameter `lambda` = Λ ≥ 0 (Λ = 0: the unit circle).
+    pub fn new(alpha: f64, lambda: f64) -> Result<Self, LacError> {
+        if !alpha.is_finite() {
+            return Err(LacError::NotFinite { field: "alpha" });
+        }
+        if !(lambda.is_finite() && lambda >= 0.0) {
+            return Err(LacError::InvalidLambda { lambda });
+        }
+        Ok(Self {
+            alpha,
+            lambda,
+            s_ref: 1.0,
+            l_ref: lambda,
+            m_ref: alpha * lambda,
+        })
+    }
+
+    /// The standard form of a span of length `s_end` (in units of ρ at its high-curvature end)
+    /// whose curvature falls by the factor e^{ln_ratio} from s = 0 to s = s_end;
+    /// `ln_ratio = None` means it falls to exactly 0 (α < 0 only, checked by the caller).
+    pub(crate) fn from_span(
+        alpha: f64,
+        s_end: f64,
+        ln_ratio: Option<f64>,
+    ) -> Result<Self, LacError> {
+        let (l_ref, m_ref) = match ln_ratio {
+            // ρ^α goes from 1 to 0: αΛs_end = −1.
+            None => (-1.0 / alpha, -1.0),
+            // ρ_end^α = e^{α·ln_ratio}: αΛs_end = expm1(α·ln_ratio), Λs_end = ln_ratio·exprel(α·ln_ratio).
+            Some(lr) => {
+                let m = if alpha == 0.0 {
+                    0.0
+                } else {
+                    (alpha * lr).exp_m1()
+                };
+                (lr * exprel(alpha * lr), m)
+            }
+        };
+        let lambda = l_ref / s_end;
+        if !(l_ref.is_finite() && m_ref.is_finite() && lambda.is_finite()) {
+            return Err(LacError::CurvatureRatioOutOfRange {
+                ratio: ln_ratio.map_or(f64::INFINITY, f64::exp),
+                alpha,
+            });
+        }
+        Ok(Self {
+            alpha,
+            lambda,
+            s_ref: s_end,
+            l_ref,
+            m_ref,
+        })
+    }
+
+    /// The slope α of the logarithmic curvature graph.
+    pub fn alpha(&self) -> f64 {
+        self.alpha
+    }
+
+    /// The shape parameter Λ (in units of 1/ρ(0)).
+    pub fn lambda(&self) -> f64 {
+        self.lambda
+    }
+
+    /// y(s) = αΛs, clamped to ≥ −1 (the κ = 0 point of an α < 0 curve).
+    fn y(&self, s: f64) -> f64 {
+        (self.m_ref * (s / self.s_ref)).max(-1.0)
+    }
+
+    /// ln ρ(s) = Λs·lnrel(αΛs); +∞ at the κ = 0 point of an α < 0 curve.
+    pub(crate) fn ln_rho(&self, s: f64) -> f64 {
+        let y = self.y(s);
+        if y <= -1.0 {
+            f64::INFINITY
+        } else {
+            self.l_ref * (s / self.s_ref) * lnrel(y)
+        }
+    }
+
+    /// Curvature κ(s) = (1 + αΛs)^{−1/α} (e^{−Λs} for α = 0); 0 beyond s_max when α < 0.
+    pub fn kappa(&self, s: f64) -> f64 {
+        (-self.ln_rho(s)).exp()
+    }
+
+    /// Tangent angle θ(s) = ∫₀ˢ κ, in closed form (see the module documentation).
+    pub fn theta(&self, s: f64) -> f64 {
+        let y = self.y(s);
+        if y <= -1.0 {
+            // Only reachable for α < 0 with Λ > 0, where θ_max is finite.
+            return 1.0 / ((1.0 - self.alpha) * self.lambda);
+        }
+        let lr = self.l_ref * (s / self.s_ref) * lnrel(y);
+        s * lnrel(y) * exprel((self.alpha - 1.0) * lr)
+    }
+
+    /// The supremum of the turning angle, θ_max = 1/((1 − α)Λ), for α < 1 and Λ > 0 (reached at
+    /// [`StandardLac::s_max`] when α < 0, approached as s → ∞ when 0 ≤ α < 1); `None` when the
+    /// turning is unbounded (α ≥ 1 or Λ = 0).
+    pub fn theta_max(&self) -> Option<f64> {
+        (self.alpha < 1.0 && self.lambda > 0.0).then(|| 1.0 / ((1.0 - self.alpha) * self.lambda))
+    }
+
+    /// Arc length s_max = −1/(αΛ) of the κ = 0 point, for α < 0 and Λ > 0; `None` otherwise.
+    pub fn s_max(&self) -> Option<f64> {
+        (self.alpha < 0.0 && self.lambda > 0.0).then(|| -self.s_ref / self.m_ref)
+    }
+
+    /// Turning still to come from s to the κ = 0 point, θ_max − θ(s) = θ_max·ρ(s)^{α−1}, without
+    /// cancellation (α < 0 only; `None` otherwise).
+    pub(crate) fn remaining_turning(&self, s: f64) -> Option<f64> {
+        let tm = self.theta_max()?;
+        (self.alpha < 0.0).then(|| tm * ((self.alpha - 1.0) * self.ln_rho(s)).exp())
+    }
+
+    /// Arc length at turning angle θ ≥ 0, the inverse of [`StandardLac::theta`]; `None` when
+    /// θ < 0 or θ is beyond the reachable turning (θ > θ_max, or θ = θ_max for 0 ≤ α < 1).
+    pub fn s_of_theta(&self, theta: f64) -> Option<f64> {
+        if theta.is_nan() || theta < 0.0 {
+            return None;
+        }
+        if let Some(tm) = self.theta_max() {
+            if theta > tm || (theta == tm && self.alpha >= 0.0) {
+                return None;
+            }
+            if theta == tm {
+                return self.s_max();
+            }
+        }
+        let z = self.lambda * (self.alpha - 1.0) * theta;
+        if z <= -1.0 {
+            // Rounding right at θ_max.
+            return if self.alpha < 0.0 { self.s_max() } else { None };
+        }
+        let ln_rho = self.lambda * theta * lnrel(z);
+        Some(theta * lnrel(z) * exprel(self.alpha * ln_rho))
+    }
+
+    /// Point P(s) = ∫₀ˢ e^{iθ(u)} du (start at the origin, tangent +x). For α < 0, `s` is clamped
+    /// to s_max.
+    pub fn point(&self, s: f64) -> Point {
+        self.tangent_integral(0.0, s).to_point()
+    }
+
+    /// ∫_{a}^{b} e^{iθ(u)} du for 0 ≤ a ≤ b (≤ s_max when α < 0), as a complex number: closed
+    /// forms for α = 1 and α = 2, adaptive quadrature otherwise.
+    pub(crate) fn tangent_integral(&self, a: f64, b: f64) -> Vec2 {
+        let b = match self.s_max() {
+            Some(sm) => b.min(sm),
+            None => b,
+        };
+        if b <= a {
+            return Vec2::ZERO;
+        }
+        if self.alpha == 1.0 || self.alpha == 2.0 {
+            self.closed_form(b) - self.closed_form(a)
+        } else {
+            quadrature::integrate(self, a, b)
+        }
+    }
+
+    /// Closed-form P(s) for α = 1 and α = 2 (only called for those).
+    ///
+    /// * α = 1, logarithmic spiral: P = ((1 + Λs)^{1 + i/Λ} − 1)/(Λ + i) = expm1(L + iθ)/(Λ + i)
+    ///   with L = ln(1 + Λs) = Λθ.
+    /// * α = 2, circle involute (w = ρ = √(1 + 2Λs), θ = (w − 1)/Λ):
+    ///   P = −i(e^{iθ} − 1) + Λ·G(θ), G(θ) = e^{iθ}(1 − iθ) − 1, which is the reference
+    ///   `e^{−ik}/Λ [F(w) − F(1)]`, F(w) = e^{ikw}(w/(ik) + 1/k²), k = 1/Λ, regrouped so that no
+    ///   term cancels (G by its power series for small θ).
+    fn closed_form(&self, s: f64) -> Vec2 {
+        let theta = self.theta(s);
+        if self.alpha == 1.0 {
+            let l = self.ln_rho(s);
+            cdiv(cexpm1(l, theta), Vec2::new(self.lambda, 1.0))
+        } else {
+            let e = cexpm1(0.0, theta);
+            Vec2::new(e.y, -e.x) + involute_g(theta) * self.lambda
+        }
+    }
+}
+
+/// G(θ) = e^{iθ}(1 − iθ) − 1 = Σ_{n≥2} (1 − n)(iθ)ⁿ/n!.
+fn involute_g(theta: f64) -> Vec2 {
+    if theta.abs() >= INVOLUTE_SERIES_BELOW {
+        involute_g_direct(theta)
+    } else {
+        involute_g_series(theta)
+    }
+}
+
+/// G(θ) = e^{iθ}(1 − iθ) − 1 evaluated as written.
+fn involute_g_direct(theta: f64) -> Vec2 {
+    cmul(cis(theta), Vec2::new(1.0, -theta)) - Vec2::new(1.0, 0.0)
+}
+
+/// G(θ) = Σ_{n≥2} (1 − n)(iθ)ⁿ/n!, for |θ| ≤ 1.
+fn involute_g_series(theta: f64) -> Vec2 {
+    let it = Vec2::new(0.0, theta);
+    let mut power = cmul(it, it) * 0.5; // (iθ)²/2!
+    let mut sum = -power; // n = 2: (1 − 2)(iθ)²/2!
+    for n in 3..SERIES_MAX_TERMS {
+        power = cmul(power, it) * (1.0 / n as f64);
+        let term = power * (1.0 - n as f64);
+        sum += term;
+        if term.hypot() < SERIES_TERM_EPS * sum.hypot() {
+            break;
+        }
+    }
+    sum
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn theta_and_inverse_agree_across_alpha() {
+        for alpha in [
+            -2.0,
+            -1.0,
+            -1e-12,
+            0.0,
+            1e-12,
+            0.5,
+            1.0 - 1e-12,
+            1.0,
+            1.0 + 1e-12,
+            2.0,
+            3.0,
+        ] {
+            for lambda in [0.0, 1e-9, 0.2, 1.0, 5.0] {
+                let lac = StandardLac::new(alpha, lambda).expect("valid");
+                let s_max = lac.s_max().unwrap_or(f64::INFINITY);
+                for s in [0.0, 1e-6, 0.05, 0.07, 0.5, 0.09]
+                    .into_iter()
+                    .filter(|&s| s <= s_max)
+                {
+                    let th = lac.theta(s);
+                    let back = lac.s_of_theta(th).expect("reachable");
+                    assert!(
+                        (back - s).abs() <= 1e-14 * (1.0 + s),
+                        "{alpha} {lambda} {s}: {back}"
+                    );
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn involute_series_matches_direct_at_threshold() {
+        for theta in [INVOLUTE_SERIES_BELOW, -INVOLUTE_SERIES_BELOW, 0.7] {
+            let (a, b) = (involute_g_series(theta), involute_g_direct(theta));
+            assert!((a - b).hypot() < 1e-15, "{theta}: {a:?} vs {b:?}");
+        }
+        // Small θ: G ≈ θ²/2 + iθ³/3 with full relative accuracy in both parts.
+        let g = involute_g(1e-6);
+        assert!((g.x / 5e-13 - 1.0).abs() < 1e-11 && (g.y / (1e-18 / 3.0) - 1.0).abs() < 1e-11);
+    }
+}
