@@ -29,6 +29,7 @@
 //! ```
 
 pub mod bspline;
+pub mod chain;
 pub mod cli;
 pub mod export;
 pub mod geom;

@@ -4,6 +4,7 @@
 //! [`fit_bspline`] → [`split_spans`] → [`CurveFit`].
 
 use crate::bspline::{BSplineFit, FitError, FitOptions, SegmentSearch, fit_bspline};
+use crate::chain::{Chain, ChainError, ChainInput, ChainOptions, fit_chain};
 use crate::prepare::{CornerOptions, DwellOptions, PieceEnd, prepare};
 use crate::split::{Spans, SplitError, SplitKind, SplitOptions, split_spans};
 use crate::stroke::{Stroke, StrokeFile, Units};
@@ -26,6 +27,11 @@ pub struct PipelineOptions {
     pub search: SegmentSearch,
     /// Options of the split stage (defaults: [`SplitOptions::default`]).
     pub split: SplitOptions,
+    /// Fit the log-aesthetic chain. Default true; off, the pipeline stops after the split (the
+    /// benchmark times the earlier stages that way).
+    pub lac: bool,
+    /// Options of the chain stage (defaults: [`ChainOptions::default`]).
+    pub chain: ChainOptions,
 }
 
 impl Default for PipelineOptions {
@@ -38,6 +44,8 @@ impl Default for PipelineOptions {
             fair: true,
             search: SegmentSearch::DoublingBisection,
             split: SplitOptions::default(),
+            lac: true,
+            chain: ChainOptions::default(),
         }
     }
 }
@@ -82,6 +90,12 @@ pub struct CurveFit {
     /// Spans of monotonic curvature, with their split points. The first and last split are
     /// `start`/`end`, or `corner` where the piece meets a neighbour at a corner.
     pub spans: Spans,
+    /// The piece's distinct sample positions (what was fitted), in stroke order.
+    pub points: Vec<crate::geom::Point>,
+    /// For each of `points`, its original sample index.
+    pub indices: Vec<usize>,
+    /// The log-aesthetic chain (`None` when [`PipelineOptions::lac`] is off).
+    pub chain: Option<Chain>,
 }
 
 /// The pipeline's result for a file.
@@ -112,6 +126,18 @@ pub enum PipelineError {
         last: usize,
         /// The cause.
         source: FitError,
+    },
+    /// The log-aesthetic chain could not be built.
+    #[error("stroke {stroke}, samples {first}..={last}: {source}")]
+    Chain {
+        /// Stroke index.
+        stroke: usize,
+        /// First sample of the piece.
+        first: usize,
+        /// Last sample of the piece.
+        last: usize,
+        /// The cause.
+        source: ChainError,
     },
     /// Splitting failed.
     #[error("stroke {stroke}, samples {first}..={last}: {source}")]
@@ -180,11 +206,35 @@ pub fn fit_stroke(
                 }
             })?;
             mark_corners(&mut spans, piece.start, piece.end);
+            let chain = if options.lac {
+                let input = ChainInput {
+                    points: &piece.points,
+                    params: &bspline.params,
+                    indices: &piece.indices,
+                    samples: piece.samples,
+                    curve: &bspline.curve,
+                    spans: &spans,
+                };
+                let chain = fit_chain(&input, tolerance, &options.chain).map_err(|source| {
+                    PipelineError::Chain {
+                        stroke: index,
+                        first,
+                        last,
+                        source,
+                    }
+                })?;
+                Some(chain)
+            } else {
+                None
+            };
             Ok(CurveFit {
                 stroke: index,
                 samples: piece.samples,
                 bspline,
                 spans,
+                points: piece.points.clone(),
+                indices: piece.indices.clone(),
+                chain,
             })
         })
         .collect()

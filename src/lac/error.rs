@@ -86,4 +86,20 @@ pub enum LacError {
         /// The alpha asked for.
         alpha: f64,
     },
+    /// No α in the allowed range gives a segment joining the G1 data.
+    #[error("no alpha in [{min}, {max}] joins this G1 data with a log-aesthetic segment")]
+    NoAlphaInRange {
+        /// Smallest α allowed.
+        min: f64,
+        /// Largest α allowed.
+        max: f64,
+    },
+    /// An α range or fixed α that is not finite, or an empty range.
+    #[error("the alpha range [{min}, {max}] is not a finite, non-empty interval")]
+    InvalidAlphaRange {
+        /// Smallest α asked for.
+        min: f64,
+        /// Largest α asked for.
+        max: f64,
+    },
 }

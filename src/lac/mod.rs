@@ -13,15 +13,26 @@
 //! * [`segment`]: the canonical segment record ([`LacSegment`], JSON via serde) and its evaluation,
 //!   including the rendering fast path [`LacSegment::samples`].
 //! * [`yoshida_saito`]: the segment of a given α joining G1 end data ([`fit_g1`]).
+//! * [`alpha_search`]: the best α for a span (grid, then Brent), [`fit_span`].
+//! * [`biarc`]: two circular arcs joining G1 data, the fallback where no LAC can.
+//! * [`deviation`]: distances from a span's samples to a segment.
+//! * [`minimize`]: Brent's scalar minimisation (the α search).
 //! * [`error`]: the typed errors, [`LacError`].
 
+pub mod alpha_search;
+pub mod biarc;
+pub mod deviation;
 pub mod error;
+pub mod minimize;
 pub mod quadrature;
 pub mod segment;
 mod special;
 pub mod standard;
 pub mod yoshida_saito;
 
+pub use alpha_search::{AlphaChoice, AlphaSearch, SpanFit, fit_span};
+pub use biarc::biarc;
+pub use deviation::{Deviation, deviation};
 pub use error::LacError;
 pub use segment::{LacSample, LacSamples, LacSegment, LacSegmentRecord};
 pub use standard::StandardLac;

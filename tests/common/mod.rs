@@ -1,6 +1,8 @@
 //! Synthetic strokes with known answers, and fixture loading by name.
 #![allow(dead_code)]
 
+pub mod lac;
+
 use kansei::geom::Point;
 use kansei::stroke::{Sample, Stroke, StrokeFile};
 

@@ -1,0 +1,18 @@
+//! The log-aesthetic chain: one LAC segment per span of monotonic curvature, G1 throughout.
+//!
+//! In: a fitted piece of stroke ([`crate::pipeline::CurveFit`]: its samples, their B-spline
+//! parameters, the spans) and the tolerance. Out: a [`Chain`] of [`ChainSegment`]s, each the
+//! Yoshida–Saito segment ([`crate::lac::fit_g1`]) through its ends' positions and tangents with
+//! the α that fits its samples best ([`crate::lac::fit_span`]). Consecutive segments share the
+//! joint's position and tangent, so the chain is G1 by construction.
+//!
+//! Tolerance: a segment whose samples are not all within the tolerance is subdivided at its
+//! parameter midpoint (the new joint taken on the B-spline, still G1) and refitted, up to
+//! [`ChainOptions::max_depth`] times. Then neighbours are merged where one segment covers both
+//! within the tolerance: across a curvature extremum (noise) or a subdivision joint, never across
+//! an inflection (a log-aesthetic segment has one curvature sign) or a corner (not in a piece).
+//! Fewer segments are better, as the seed paper's future work asks.
+
+mod fit;
+
+pub use fit::{Chain, ChainError, ChainInput, ChainOptions, ChainSegment, JointKind, fit_chain};

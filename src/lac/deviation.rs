@@ -1,0 +1,195 @@
+//! Distances from a span's samples to an LAC segment.
+//!
+//! The segment is traced as a polyline at a spacing `h` whose chord error κ_max·h²/8 is at most
+//! the caller's `chord_error` (κ_max is the larger end curvature: curvature is monotonic). Each
+//! step integrates e^{iθ(s)} with the 3-point Gauss–Legendre rule on the closed-form θ: a step
+//! turns by κh, and the rule's error, about h·(κh)⁶/2·10⁶, is below 1e-12 of the step for
+//! κh ≤ 0.1 and below 1e-7 of it even for κh = 0.6 (a tight hook at the coarsest spacing). That
+//! is three θ evaluations per vertex instead of a full adaptive panel. The samples, ordered along the span, are projected
+//! onto it by a walk that starts each search at the previous sample's foot: the cost is about one
+//! pass over the polyline per span, not samples × polyline. Distances are therefore exact to
+//! within `chord_error` (the polyline lies inside the curve's convex side by at most that much).
+
+use super::segment::LacSegment;
+use crate::geom::{Point, Vec2};
+
+/// Most polyline vertices used for one segment. A span whose required spacing would need more
+/// (an extreme curvature ratio) is traced at the coarser spacing this allows; the chord error
+/// then grows where the curvature is highest, over a vanishing length.
+const MAX_VERTICES: usize = 20_000;
+
+/// The walk stops searching once the polyline has moved this many spacings beyond twice the best
+/// distance found: past that, only a curve that comes back towards the sample (a loop, which a
+/// monotone-curvature span turning less than 2π cannot make within that reach) could be closer.
+const LOOKAHEAD_SPACINGS: f64 = 4.0;
+
+/// The samples' distances to a segment.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct Deviation {
+    /// Each sample's distance to the segment.
+    pub distances: Vec<f64>,
+    /// Each sample's foot point, as arc length along the segment.
+    pub feet: Vec<f64>,
+    /// The largest distance (0 without samples).
+    pub max: f64,
+    /// The root mean square distance (0 without samples).
+    pub rms: f64,
+}
+
+/// Distances from `samples` (ordered along the segment) to `segment`, exact to `chord_error`.
+pub fn deviation(segment: &LacSegment, samples: &[Point], chord_error: f64) -> Deviation {
+    let polyline = trace(segment, chord_error);
+    project_ordered(&polyline, samples)
+}
+
+/// The segment as `(arc length, point)` vertices with chord error at most `chord_error`; the last
+/// vertex is the segment's exact end.
+pub fn trace(segment: &LacSegment, chord_error: f64) -> Vec<(f64, Point)> {
+    let length = segment.length();
+    let kappa_max = segment.kappa0().abs().max(segment.kappa1().abs());
+    let mut spacing = if kappa_max > 0.0 && chord_error > 0.0 {
+        (8.0 * chord_error / kappa_max).sqrt()
+    } else {
+        length
+    };
+    spacing = spacing.max(length / MAX_VERTICES as f64);
+    let steps = ((length / spacing).ceil() as usize).max(1);
+    let h = length / steps as f64;
+    let mut out = Vec::with_capacity(steps + 1);
+    let mut p = segment.start();
+    out.push((0.0, p));
+    for i in 0..steps {
+        let s0 = i as f64 * h;
+        let mut step = Vec2::ZERO;
+        for &(w, x) in GAUSS_3 {
+            let theta = segment.theta(s0 + 0.5 * h * (1.0 + x));
+            step += Vec2::new(theta.cos(), theta.sin()) * (0.5 * h * w);
+        }
+        p += step;
+        out.push((s0 + h, p));
+    }
+    if let Some(last) = out.last_mut() {
+        *last = (length, segment.end());
+    }
+    out
+}
+
+/// 3-point Gauss–Legendre rule on [−1, 1]: (weight, node) = (8/9, 0), (5/9, ±√(3/5)).
+const GAUSS_3: &[(f64, f64)] = &[
+    (8.0 / 9.0, 0.0),
+    (5.0 / 9.0, -0.774_596_669_241_483_4),
+    (5.0 / 9.0, 0.774_596_669_241_483_4),
+];
+
+/// Projects ordered samples onto an ordered polyline.
+pub fn project_ordered(polyline: &[(f64, Point)], samples: &[Point]) -> Deviation {
+    let mut out = Deviation {
+        distances: Vec::with_capacity(samples.len()),
+        feet: Vec::with_capacity(samples.len()),
+        ..Deviation::default()
+    };
+    if polyline.is_empty() {
+        return out;
+    }
+    if polyline.len() == 1 {
+        for q in samples {
+            out.distances.push(q.distance(polyline[0].1));
+            out.feet.push(polyline[0].0);
+        }
+        return summarise(out);
+    }
+    let spacing = polyline[1].0 - polyline[0].0;
+    let mut start = 0usize;
+    for q in samples {
+        // Samples can step back a little (noise): begin a couple of vertices behind.
+        let mut k = start.saturating_sub(2);
+        let mut best = (f64::INFINITY, polyline[0].0, start);
+        while k + 1 < polyline.len() {
+            let (s0, a) = polyline[k];
+            let (s1, b) = polyline[k + 1];
+            let (d, f) = segment_distance(*q, a, b);
+            if d < best.0 {
+                best = (d, s0 + f * (s1 - s0), k);
+            }
+            if q.distance(a) > 2.0 * best.0 + LOOKAHEAD_SPACINGS * spacing {
+                break;
+            }
+            k += 1;
+        }
+        out.distances.push(best.0);
+        out.feet.push(best.1);
+        start = best.2;
+    }
+    summarise(out)
+}
+
+/// Distance from `q` to segment `ab` and the foot's fraction along it.
+fn segment_distance(q: Point, a: Point, b: Point) -> (f64, f64) {
+    let ab: Vec2 = b - a;
+    let len2 = ab.hypot2();
+    let f = if len2 > 0.0 {
+        ((q - a).dot(ab) / len2).clamp(0.0, 1.0)
+    } else {
+        0.0
+    };
+    (q.distance(a + ab * f), f)
+}
+
+fn summarise(mut d: Deviation) -> Deviation {
+    let n = d.distances.len();
+    if n > 0 {
+        d.max = d.distances.iter().copied().fold(0.0, f64::max);
+        d.rms = (d.distances.iter().map(|x| x * x).sum::<f64>() / n as f64).sqrt();
+    }
+    d
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn offset_samples_of_an_arc_are_at_their_offset() {
+        // A quarter circle of radius 20: samples 0.05 outside it.
+        let seg = LacSegment::new(
+            Point::new(20.0, 0.0),
+            std::f64::consts::FRAC_PI_2,
+            10.0 * std::f64::consts::PI,
+            None,
+            0.05,
+            0.05,
+        )
+        .expect("arc");
+        let samples: Vec<Point> = (0..=40)
+            .map(|i| {
+                let a = std::f64::consts::FRAC_PI_2 * i as f64 / 40.0;
+                Point::new(20.05 * a.cos(), 20.05 * a.sin())
+            })
+            .collect();
+        let d = deviation(&seg, &samples, 1e-6);
+        for (x, s) in d.distances.iter().zip(&d.feet) {
+            assert!((x - 0.05).abs() < 2e-6, "{x}");
+            assert!(*s >= 0.0 && *s <= seg.length());
+        }
+        assert!((d.max - 0.05).abs() < 2e-6 && (d.rms - 0.05).abs() < 2e-6);
+        // Feet advance with the samples.
+        assert!(d.feet.windows(2).all(|w| w[1] >= w[0]));
+        assert!((d.feet[20] - seg.length() / 2.0).abs() < 1e-3);
+    }
+
+    #[test]
+    fn the_trace_lies_on_the_segment() {
+        // The vertices must be exact to far below the chord error they are traced for (here 1 %
+        // of it), whatever α and however fast the curvature changes (κ 0.2 → 0.01 over a length
+        // of 40: for α = 3 most of that fall happens within the first step).
+        let chord = 1e-3;
+        for alpha in [-1.5, -1.0, 0.0, 0.5, 1.0, 2.0, 3.0] {
+            let seg = LacSegment::new(Point::new(1.0, 2.0), 0.3, 40.0, Some(alpha), 0.2, 0.01)
+                .expect("segment");
+            for &(s, p) in &trace(&seg, chord) {
+                let error = p.distance(seg.point(s));
+                assert!(error < 1e-2 * chord, "alpha {alpha}, s {s}: {error}");
+            }
+        }
+    }
+}
