@@ -13,9 +13,12 @@
 //! * [`segment`]: the canonical segment record ([`LacSegment`], JSON via serde) and its evaluation,
 //!   including the rendering fast path [`LacSegment::samples`].
 //! * [`yoshida_saito`]: the segment of a given α joining G1 end data ([`fit_g1`]).
+//! * [`lcg`]: the logarithmic curvature graph of a segment or of a span of Béziers, and its
+//!   least-squares slope (the initial α guess).
 //! * [`error`]: the typed errors, [`LacError`].
 
 pub mod error;
+pub mod lcg;
 pub mod quadrature;
 pub mod segment;
 mod special;
@@ -23,6 +26,7 @@ pub mod standard;
 pub mod yoshida_saito;
 
 pub use error::LacError;
+pub use lcg::{LcgLine, LcgPoint, lcg_line, lcg_of_bezier_span, lcg_of_segment, lcg_slope};
 pub use segment::{LacSample, LacSamples, LacSegment, LacSegmentRecord};
 pub use standard::StandardLac;
 pub use yoshida_saito::fit_g1;
