@@ -17,12 +17,15 @@
 //! * [`biarc`]: two circular arcs joining G1 data, the fallback where no LAC can.
 //! * [`deviation`]: distances from a span's samples to a segment.
 //! * [`minimize`]: Brent's scalar minimisation (the α search).
+//! * [`lcg`]: the logarithmic curvature graph of a segment or of a span of Béziers, and its
+//!   least-squares slope.
 //! * [`error`]: the typed errors, [`LacError`].
 
 pub mod alpha_search;
 pub mod biarc;
 pub mod deviation;
 pub mod error;
+pub mod lcg;
 pub mod minimize;
 pub mod quadrature;
 pub mod segment;
@@ -34,6 +37,7 @@ pub use alpha_search::{AlphaChoice, AlphaSearch, SpanFit, fit_span};
 pub use biarc::biarc;
 pub use deviation::{Deviation, deviation};
 pub use error::LacError;
+pub use lcg::{LcgLine, LcgPoint, lcg_line, lcg_of_bezier_span, lcg_of_segment, lcg_slope};
 pub use segment::{LacSample, LacSamples, LacSegment, LacSegmentRecord};
 pub use standard::StandardLac;
 pub use yoshida_saito::fit_g1;
