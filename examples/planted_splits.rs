@@ -61,13 +61,13 @@ fn main() {
             for seed in 0..seeds {
                 let stroke = sample_curve(curve, a, b, 400, sigma, seed);
                 o += usize::from(
-                    count(&stroke, tolerance, &PipelineOptions::default()) == Some(truth),
+                    count(&stroke, tolerance, &PipelineOptions::splits_only()) == Some(truth),
                 );
                 p += usize::from(
                     count(
                         &stroke,
                         tolerance,
-                        &PipelineOptions::default().seed_method(),
+                        &PipelineOptions::splits_only().seed_method(),
                     ) == Some(truth),
                 );
             }

@@ -56,6 +56,14 @@ impl PipelineOptions {
         self.tolerance.unwrap_or(units.default_tolerance())
     }
 
+    /// The default options without the log-aesthetic stage: prepare, B-spline and split only.
+    pub fn splits_only() -> Self {
+        PipelineOptions {
+            lac: false,
+            ..PipelineOptions::default()
+        }
+    }
+
     /// The seed paper's configuration: segments added one at a time, plain least squares (no
     /// fairing). The benchmark's peer.
     pub fn seed_method(mut self) -> Self {

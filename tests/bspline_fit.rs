@@ -122,7 +122,7 @@ const DEVIATION_INVARIANCE: f64 = 1e-6;
 
 /// Whether a stroke fits the same under a rotation + scale + translation; `Err` says what differs.
 fn invariant(stroke: &kansei::stroke::Stroke, index: usize, tol: f64) -> Result<(), String> {
-    let options = PipelineOptions::default();
+    let options = PipelineOptions::splits_only();
     let base = fit_stroke(stroke, index, tol, &options).map_err(|e| e.to_string())?;
     let kinds = |f: &kansei::pipeline::CurveFit| -> Vec<SplitKind> {
         f.spans.splits.iter().map(|s| s.kind).collect()

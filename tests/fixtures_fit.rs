@@ -14,7 +14,7 @@ fn every_fixture_stroke_fits_within_its_tolerance() {
         for tol_factor in [1.0, 2.0] {
             let tol = file.units.default_tolerance() * tol_factor;
             let out =
-                fit_file(&file, &PipelineOptions::default().with_tolerance(tol)).expect("fit");
+                fit_file(&file, &PipelineOptions::splits_only().with_tolerance(tol)).expect("fit");
             for c in &out.curves {
                 assert!(
                     c.bspline.within_tolerance,

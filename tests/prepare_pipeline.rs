@@ -45,7 +45,7 @@ fn dwell_does_not_bias_the_end_tangent() {
     for seed in 0..5 {
         let pts = arc_with_dwell(40, 0.04, seed);
         let arc_end = pts.len() - 41;
-        let fit = fit_points(&pts, &PipelineOptions::default());
+        let fit = fit_points(&pts, &PipelineOptions::splits_only());
         // The dwell lies outside the curve's range, which ends where the pen arrived.
         assert!(
             fit.samples.1 <= arc_end && fit.samples.1 + 3 >= arc_end,
@@ -62,7 +62,7 @@ fn dwell_does_not_bias_the_end_tangent() {
             &pts,
             &PipelineOptions {
                 keep_hooks: true,
-                ..PipelineOptions::default()
+                ..PipelineOptions::splits_only()
             },
         );
         assert_eq!(kept.samples.1, pts.len() - 1);
@@ -92,7 +92,7 @@ fn a_corner_cuts_the_stroke_into_two_curves_meeting_exactly() {
         .position(|p| p.distance(Point::new(40.0, 0.0)) < 1e-9)
         .expect("apex");
     let stroke = Stroke::from_points(pts.iter().copied());
-    let fits = fit_stroke(&stroke, 0, 0.1, &PipelineOptions::default()).expect("fit");
+    let fits = fit_stroke(&stroke, 0, 0.1, &PipelineOptions::splits_only()).expect("fit");
     assert_eq!(fits.len(), 2);
     assert_eq!(fits[0].samples, (0, corner));
     assert_eq!(fits[1].samples, (corner, pts.len() - 1));
@@ -117,7 +117,7 @@ fn a_corner_cuts_the_stroke_into_two_curves_meeting_exactly() {
     // A larger corner angle keeps the stroke whole.
     let whole = PipelineOptions {
         corner_angle: 100.0,
-        ..PipelineOptions::default()
+        ..PipelineOptions::splits_only()
     };
     assert_eq!(fit_stroke(&stroke, 0, 0.1, &whole).expect("fit").len(), 1);
 }
@@ -132,7 +132,7 @@ fn a_landing_hook_is_dropped_unless_kept() {
         Point::new(60.0 * a, 8.0 * (std::f64::consts::PI * a).sin())
     }));
     let stroke = Stroke::from_points(pts.iter().copied());
-    let fits = fit_stroke(&stroke, 0, 0.1, &PipelineOptions::default()).expect("fit");
+    let fits = fit_stroke(&stroke, 0, 0.1, &PipelineOptions::splits_only()).expect("fit");
     assert_eq!(fits.len(), 1);
     let first = fits[0].samples.0;
     assert!(
@@ -141,7 +141,7 @@ fn a_landing_hook_is_dropped_unless_kept() {
     );
     let kept = PipelineOptions {
         keep_hooks: true,
-        ..PipelineOptions::default()
+        ..PipelineOptions::splits_only()
     };
     let fits = fit_stroke(&stroke, 0, 0.1, &kept).expect("fit");
     assert_eq!(fits.first().map(|f| f.samples.0), Some(0));
@@ -161,12 +161,12 @@ fn duplicate_samples_are_merged_without_changing_the_fit() {
             });
         }
     }
-    let a = fit_stroke(&stroke, 0, 0.1, &PipelineOptions::default()).expect("fit");
+    let a = fit_stroke(&stroke, 0, 0.1, &PipelineOptions::splits_only()).expect("fit");
     let b = fit_stroke(
         &Stroke::new(doubled.clone()),
         0,
         0.1,
-        &PipelineOptions::default(),
+        &PipelineOptions::splits_only(),
     )
     .expect("fit");
     assert_eq!(a.len(), 1);

@@ -10,7 +10,7 @@ use kansei::split::SplitKind;
 
 /// (curvature extrema, inflections) found in a stroke.
 fn count(stroke: &kansei::stroke::Stroke, tolerance: f64) -> (usize, usize) {
-    let fits = fit_stroke(stroke, 0, tolerance, &PipelineOptions::default()).expect("fit");
+    let fits = fit_stroke(stroke, 0, tolerance, &PipelineOptions::splits_only()).expect("fit");
     let of = |kind| {
         fits.iter()
             .flat_map(|c| c.spans.splits.iter())

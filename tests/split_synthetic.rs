@@ -8,7 +8,7 @@ use kansei::pipeline::{CurveFit, PipelineOptions, fit_stroke};
 use kansei::split::SplitKind;
 
 fn fit_one(stroke: &kansei::stroke::Stroke, tol: f64) -> CurveFit {
-    let mut fits = fit_stroke(stroke, 0, tol, &PipelineOptions::default()).expect("fit");
+    let mut fits = fit_stroke(stroke, 0, tol, &PipelineOptions::splits_only()).expect("fit");
     assert_eq!(fits.len(), 1, "no corners expected");
     fits.remove(0)
 }
@@ -74,7 +74,7 @@ fn an_ellipse_arc_has_exactly_one_curvature_extremum_at_the_vertex() {
 fn spans_have_one_curvature_sign_and_monotonic_curvature() {
     use kansei::geom::{ParamCurve, ParamCurveDeriv, curvature_from_derivs};
     let file = fixture("google-ink-spring");
-    let fits = fit_stroke(&file.strokes[0], 0, 0.5, &PipelineOptions::default()).expect("fit");
+    let fits = fit_stroke(&file.strokes[0], 0, 0.5, &PipelineOptions::splits_only()).expect("fit");
     for fit in &fits {
         let first = fit.spans.splits.first().expect("splits");
         let last = fit.spans.splits.last().expect("splits");

@@ -175,7 +175,7 @@ fn a_hundred_thousand_samples_fit_correctly() {
         .collect();
     let file = StrokeFile::new(Units::Mm, vec![Stroke::new(samples)]);
     file.validate().expect("valid");
-    let out = fit_file(&file, &PipelineOptions::default()).expect("fit");
+    let out = fit_file(&file, &PipelineOptions::splits_only()).expect("fit");
     assert!(!out.curves.is_empty());
     for c in &out.curves {
         assert!(c.bspline.within_tolerance && c.bspline.max_deviation <= 0.1);

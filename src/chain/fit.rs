@@ -1,13 +1,15 @@
 use serde::Serialize;
 
+use super::refine::{RefineOptions, refine};
+use super::state::{Joint, State};
 use crate::bspline::BSpline;
 use crate::bspline::project::Pieces;
 use crate::geom::{Point, Vec2};
-use crate::lac::{AlphaChoice, AlphaSearch, LacError, LacSegment, SpanFit, biarc, fit_span};
+use crate::lac::{AlphaChoice, AlphaSearch, LacError, LacSegment, biarc, deviation, fit_span};
 use crate::split::{Spans, SplitKind};
 
-/// Distances to a segment are computed on a polyline whose chord error is this fraction of the
-/// tolerance: a thousandth leaves every tolerance decision exact in practice.
+/// Distances are seeded on a polyline whose chord error is this fraction of the tolerance, then
+/// polished to exact foot points; the α search ranks candidates at ten times it.
 const CHORD_ERROR_FRACTION: f64 = 1e-3;
 
 /// A span holding fewer samples than this is fitted against points of its B-spline instead
@@ -23,11 +25,15 @@ const SPAN_REFERENCE_POINTS: usize = 8;
 pub struct ChainOptions {
     /// α allowed per segment. Default: the range [−3, 3] ([`AlphaChoice::default`]).
     pub alpha: AlphaChoice,
-    /// How many times a span may be halved to meet the tolerance. Default 6 (64 segments per
-    /// span at most): beyond that the B-spline's own error, not the segment's, is what remains.
+    /// Rounds of subdividing the segments that miss the tolerance. Default 6 (a segment can be
+    /// cut into 64): beyond that, what remains is the data's, not the curve family's.
     pub max_depth: usize,
     /// Merge neighbours that one segment covers within the tolerance. Default true.
     pub merge: bool,
+    /// Refine joints and α by Levenberg–Marquardt. Default true.
+    pub refine: bool,
+    /// Iteration budget of each refinement. Default 30.
+    pub refine_iterations: usize,
 }
 
 impl Default for ChainOptions {
@@ -36,6 +42,8 @@ impl Default for ChainOptions {
             alpha: AlphaChoice::default(),
             max_depth: 6,
             merge: true,
+            refine: true,
+            refine_iterations: 30,
         }
     }
 }
@@ -81,14 +89,12 @@ pub struct ChainSegment {
     pub max_deviation: f64,
     /// Root mean square of those distances.
     pub rms_deviation: f64,
-    /// The α search that chose it.
+    /// The α search that started it (the final α may differ after refinement).
     pub search: AlphaSearch,
     /// What its start joint is.
     pub start: JointKind,
     /// What its end joint is.
     pub end: JointKind,
-    /// Its B-spline parameter interval.
-    pub u: (f64, f64),
 }
 
 /// The chain of one piece.
@@ -100,6 +106,8 @@ pub struct Chain {
     pub max_deviation: f64,
     /// Whether every sample is within the tolerance.
     pub within_tolerance: bool,
+    /// Whether Levenberg–Marquardt refinement ran.
+    pub refined: bool,
 }
 
 /// Why a chain could not be built.
@@ -108,7 +116,7 @@ pub enum ChainError {
     /// The input is inconsistent (lengths differ, no spans).
     #[error("inconsistent chain input: {0}")]
     Input(&'static str),
-    /// No segment could join a span's G1 data, even subdivided.
+    /// No segment, not even a biarc, could join a span's G1 data.
     #[error("span u = {u0}..{u1}: {source}")]
     Span {
         /// Start parameter.
@@ -160,27 +168,25 @@ pub fn fit_chain(
             source,
         })?;
     let fitter = Fitter::new(input, tolerance, options);
-    let mut segments = Vec::new();
-    for span in &input.spans.spans {
-        fitter.fit_interval(
-            span.u0,
-            span.u1,
-            span.start.into(),
-            span.end.into(),
-            0,
-            &mut segments,
-        )?;
+    let (mut state, mut searches) = fitter.initial()?;
+    fitter.repair(&mut state, &mut searches)?;
+    let refine_options = fitter.refine_options(&state);
+    if options.refine {
+        fitter.refine_guarded(&mut state, &refine_options);
     }
-    if options.merge {
-        fitter.merge(&mut segments);
+    for _ in 0..options.max_depth {
+        if !fitter.subdivide(&mut state, &mut searches) {
+            break;
+        }
+        fitter.repair(&mut state, &mut searches)?;
+        if options.refine {
+            fitter.refine_guarded(&mut state, &refine_options);
+        }
     }
-    fitter.assign_sample_ranges(&mut segments);
-    let max_deviation = segments.iter().map(|s| s.max_deviation).fold(0.0, f64::max);
-    Ok(Chain {
-        segments,
-        max_deviation,
-        within_tolerance: max_deviation <= tolerance,
-    })
+    if options.merge && fitter.merge(&mut state, &mut searches) && options.refine {
+        fitter.refine_guarded(&mut state, &refine_options);
+    }
+    fitter.finish(&state, searches)
 }
 
 /// The state shared by the fitting steps.
@@ -190,6 +196,7 @@ struct Fitter<'a> {
     /// Point indices sorted by parameter.
     order: Vec<usize>,
     tolerance: f64,
+    chord_error: f64,
     options: &'a ChainOptions,
 }
 
@@ -202,7 +209,25 @@ impl<'a> Fitter<'a> {
             pieces: Pieces::new(input.curve.to_beziers()),
             order,
             tolerance,
+            chord_error: CHORD_ERROR_FRACTION * tolerance,
             options,
+        }
+    }
+
+    fn refine_options(&self, state: &State) -> RefineOptions {
+        let scale: f64 = state
+            .joints
+            .windows(2)
+            .map(|w| w[0].p.distance(w[1].p))
+            .sum();
+        RefineOptions {
+            max_iterations: self.options.refine_iterations,
+            alpha_range: match self.options.alpha {
+                AlphaChoice::Range { min, max } => Some((min, max)),
+                AlphaChoice::Fixed(_) => None,
+            },
+            chord_error: self.chord_error,
+            scale: scale.max(self.tolerance),
         }
     }
 
@@ -212,159 +237,310 @@ impl<'a> Fitter<'a> {
         (p, d1.normalize())
     }
 
-    /// The samples whose parameter lies in `[u0, u1)` (`[u0, u1]` at the end of the curve), in
-    /// parameter order.
-    fn samples_in(&self, u0: f64, u1: f64) -> Vec<Point> {
+    /// Indices of the samples whose parameter lies in `[u0, u1)` (`[u0, u1]` at the end of the
+    /// curve), in parameter order.
+    fn samples_in(&self, u0: f64, u1: f64) -> Vec<usize> {
         let end = self.pieces.domain().1;
         self.order
             .iter()
-            .map(|&i| (self.input.params[i], self.input.points[i]))
-            .filter(|&(u, _)| u >= u0 && (u < u1 || (u1 >= end && u <= u1)))
-            .map(|(_, p)| p)
+            .copied()
+            .filter(|&i| {
+                let u = self.input.params[i];
+                u >= u0 && (u < u1 || (u1 >= end && u <= u1))
+            })
             .collect()
     }
 
-    /// Fits one segment on `[u0, u1]` against its samples (or B-spline points when it has too
-    /// few); the deviation is always measured on the real samples.
-    fn fit_one(&self, u0: f64, u1: f64) -> Result<SpanFit, LacError> {
-        let (a, ta) = self.g1(u0);
-        let (b, tb) = self.g1(u1);
-        let samples = self.samples_in(u0, u1);
-        let chord = CHORD_ERROR_FRACTION * self.tolerance;
-        if samples.len() >= MIN_SPAN_SAMPLES {
-            return fit_span(a, ta, b, tb, &samples, self.options.alpha, chord);
-        }
-        let reference: Vec<Point> = (0..SPAN_REFERENCE_POINTS)
-            .map(|i| {
-                let f = (i as f64 + 0.5) / SPAN_REFERENCE_POINTS as f64;
-                self.pieces.eval_derivs(u0 + f * (u1 - u0)).0
-            })
-            .collect();
-        let mut fit = fit_span(a, ta, b, tb, &reference, self.options.alpha, chord)?;
-        fit.deviation = crate::lac::deviation(&fit.segment, &samples, chord);
-        Ok(fit)
-    }
-
-    /// Fits `[u0, u1]`, halving it while the tolerance fails, and appends the segments.
-    fn fit_interval(
+    /// The α search between two joints for the given samples (B-spline points on `[u0, u1]`
+    /// stand in when there are too few samples).
+    fn search(
         &self,
-        u0: f64,
-        u1: f64,
-        start: JointKind,
-        end: JointKind,
-        depth: usize,
-        out: &mut Vec<ChainSegment>,
-    ) -> Result<(), ChainError> {
-        let fit = self.fit_one(u0, u1);
-        let good = matches!(&fit, Ok(f) if f.deviation.max <= self.tolerance);
-        if good || depth >= self.options.max_depth {
-            match fit {
-                Ok(fit) => out.push(segment_of(fit, start, end, (u0, u1))),
-                // No log-aesthetic segment joins this (tiny, sharply turning) span: two circular
-                // arcs always do, keeping the chain G1.
-                Err(_) => out.extend(self.biarc_segments(u0, u1, start, end)?),
-            }
-            return Ok(());
-        }
-        let um = 0.5 * (u0 + u1);
-        self.fit_interval(u0, um, start, JointKind::Subdivision, depth + 1, out)?;
-        self.fit_interval(um, u1, JointKind::Subdivision, end, depth + 1, out)
-    }
-
-    /// The biarc on `[u0, u1]` as two chain segments (their joint is a subdivision).
-    fn biarc_segments(
-        &self,
-        u0: f64,
-        u1: f64,
-        start: JointKind,
-        end: JointKind,
-    ) -> Result<[ChainSegment; 2], ChainError> {
-        let (a, ta) = self.g1(u0);
-        let (b, tb) = self.g1(u1);
-        let [s0, s1] = biarc(a, ta, b, tb).map_err(|source| ChainError::Span { u0, u1, source })?;
-        let samples = self.samples_in(u0, u1);
-        let chord = CHORD_ERROR_FRACTION * self.tolerance;
-        let um = 0.5 * (u0 + u1);
-        // Each sample's distance to the biarc is the smaller of its distances to the two arcs;
-        // both segments report the biarc's figures (the joint's split of the samples is moot).
-        let (d0, d1) = (
-            crate::lac::deviation(&s0, &samples, chord),
-            crate::lac::deviation(&s1, &samples, chord),
-        );
-        let distances: Vec<f64> = d0
-            .distances
-            .iter()
-            .zip(&d1.distances)
-            .map(|(a, b)| a.min(*b))
-            .collect();
-        let max = distances.iter().copied().fold(0.0, f64::max);
-        let rms = if distances.is_empty() {
-            0.0
+        a: &Joint,
+        b: &Joint,
+        samples: &[usize],
+        u: (f64, f64),
+    ) -> Result<(f64, AlphaSearch), LacError> {
+        let points: Vec<Point> = if samples.len() >= MIN_SPAN_SAMPLES {
+            samples.iter().map(|&i| self.input.points[i]).collect()
         } else {
-            (distances.iter().map(|x| x * x).sum::<f64>() / distances.len() as f64).sqrt()
+            (0..SPAN_REFERENCE_POINTS)
+                .map(|i| {
+                    let f = (i as f64 + 0.5) / SPAN_REFERENCE_POINTS as f64;
+                    self.pieces.eval_derivs(u.0 + f * (u.1 - u.0)).0
+                })
+                .collect()
         };
-        let make = |segment: LacSegment, start, end, u| {
-            let deviation = crate::lac::Deviation {
-                distances: Vec::new(),
-                feet: Vec::new(),
-                max,
-                rms,
-            };
-            segment_of(
-                SpanFit {
-                    segment,
-                    deviation,
-                    search: AlphaSearch::default(),
-                },
-                start,
-                end,
-                u,
-            )
-        };
-        let (first, second) = (
-            make(s0, start, JointKind::Subdivision, (u0, um)),
-            make(s1, JointKind::Subdivision, end, (um, u1)),
-        );
-        Ok([first, second])
+        let fit = fit_span(
+            a.p,
+            a.tangent(),
+            b.p,
+            b.tangent(),
+            &points,
+            self.options.alpha,
+            self.chord_error,
+        )?;
+        // Arcs and lines have no α: any value reproduces them; keep the range's middle.
+        let alpha = fit.segment.alpha().unwrap_or(match self.options.alpha {
+            AlphaChoice::Range { min, max } => 0.5 * (min + max),
+            AlphaChoice::Fixed(a) => a,
+        });
+        Ok((alpha, fit.search))
     }
 
-    /// Merges neighbours across curvature extrema and subdivision joints while one segment
-    /// covers both within the tolerance.
-    fn merge(&self, segments: &mut Vec<ChainSegment>) {
-        let mut i = 0;
-        while i + 1 < segments.len() {
-            let joint = segments[i].end;
-            let mergeable = matches!(joint, JointKind::CurvatureExtremum | JointKind::Subdivision);
-            if mergeable {
-                let (u0, u1) = (segments[i].u.0, segments[i + 1].u.1);
-                if let Ok(fit) = self.fit_one(u0, u1)
-                    && fit.deviation.max <= self.tolerance
-                {
-                    let merged = segment_of(fit, segments[i].start, segments[i + 1].end, (u0, u1));
-                    segments.splice(i..=i + 1, [merged]);
-                    // The merged segment may now merge with its left neighbour.
-                    i = i.saturating_sub(1);
-                    continue;
+    fn joint_at(&self, u: f64, kind: JointKind) -> Joint {
+        let (p, t) = self.g1(u);
+        Joint {
+            p,
+            angle: t.y.atan2(t.x),
+            kind,
+            fixed: kind == JointKind::Corner,
+        }
+    }
+
+    /// One segment per span, joints on the B-spline, α from the search; a span no LAC can join
+    /// becomes a biarc (an extra joint; both arcs are reproduced by any α).
+    fn initial(&self) -> Result<(State<'a>, Vec<AlphaSearch>), ChainError> {
+        let spans = &self.input.spans.spans;
+        let mut joints = vec![self.joint_at(spans[0].u0, spans[0].start.into())];
+        let (mut alphas, mut samples, mut searches) = (Vec::new(), Vec::new(), Vec::new());
+        for span in spans {
+            let (u0, u1) = (span.u0, span.u1);
+            let start = *joints.last().ok_or(ChainError::Input("no joints"))?;
+            let end = self.joint_at(u1, span.end.into());
+            let held = self.samples_in(u0, u1);
+            match self.search(&start, &end, &held, (u0, u1)) {
+                Ok((alpha, search)) => {
+                    alphas.push(alpha);
+                    samples.push(held);
+                    searches.push(search);
+                }
+                Err(_) => {
+                    let [s0, _] = biarc(start.p, start.tangent(), end.p, end.tangent())
+                        .map_err(|source| ChainError::Span { u0, u1, source })?;
+                    let mid = Joint {
+                        p: s0.end(),
+                        angle: s0.theta1(),
+                        kind: JointKind::Subdivision,
+                        fixed: false,
+                    };
+                    let um = 0.5 * (u0 + u1);
+                    let middle = match self.options.alpha {
+                        AlphaChoice::Range { min, max } => 0.5 * (min + max),
+                        AlphaChoice::Fixed(a) => a,
+                    };
+                    joints.push(mid);
+                    alphas.extend([middle, middle]);
+                    samples.push(self.samples_in(u0, um));
+                    samples.push(self.samples_in(um, u1));
+                    searches.extend([AlphaSearch::default(), AlphaSearch::default()]);
                 }
             }
-            i += 1;
+            joints.push(end);
+        }
+        Ok((
+            State {
+                points: self.input.points,
+                joints,
+                alphas,
+                samples,
+            },
+            searches,
+        ))
+    }
+
+    /// Cuts every segment that misses the tolerance where the B-spline passes its middle sample
+    /// (the median of its samples' parameters): a new joint on the B-spline, with the
+    /// B-spline's tangent, keeps the chain G1 and puts the joint on the data even where the
+    /// segment is off it. Searches α for both halves. Returns whether any was cut.
+    fn subdivide(&self, state: &mut State<'a>, searches: &mut Vec<AlphaSearch>) -> bool {
+        let mut cut = false;
+        let mut k = 0;
+        while k < state.len() {
+            let failing = match state.evaluate(k, self.chord_error) {
+                Ok(e) => e.max > self.tolerance,
+                Err(_) => true,
+            };
+            if !failing || state.samples[k].is_empty() {
+                k += 1;
+                continue;
+            }
+            let held = &state.samples[k];
+            // Between the two middle samples; a lone sample gets the joint at its own B-spline
+            // point, which lies within the B-spline's deviation (≤ tolerance) of it.
+            let (median, um) = if held.len() == 1 {
+                (1, self.input.params[held[0]])
+            } else {
+                let m = held.len() / 2;
+                (
+                    m,
+                    0.5 * (self.input.params[held[m - 1]] + self.input.params[held[m]]),
+                )
+            };
+            let mid = self.joint_at(um, JointKind::Subdivision);
+            let (first, second) = (held[..median].to_vec(), held[median..].to_vec());
+            let (a, b) = (state.joints[k], state.joints[k + 1]);
+            let parent = state.alphas[k];
+            let searched = |x: &Joint, y: &Joint, s: &[usize]| {
+                if s.len() >= MIN_SPAN_SAMPLES {
+                    self.search(x, y, s, (0.0, 0.0)).ok()
+                } else {
+                    None
+                }
+            };
+            let (alpha0, search0) =
+                searched(&a, &mid, &first).unwrap_or((parent, AlphaSearch::default()));
+            let (alpha1, search1) =
+                searched(&mid, &b, &second).unwrap_or((parent, AlphaSearch::default()));
+            state.joints.insert(k + 1, mid);
+            state.alphas.splice(k..=k, [alpha0, alpha1]);
+            state.samples.splice(k..=k, [first, second]);
+            searches.splice(k..=k, [search0, search1]);
+            cut = true;
+            k += 2;
+        }
+        cut
+    }
+
+    /// Refines, keeping the result only if its largest sample distance stays within the tolerance
+    /// or at most where it was: least squares lowers the sum of squares, which can still lift one
+    /// sample over the tolerance.
+    fn refine_guarded(&self, state: &mut State<'a>, options: &RefineOptions) {
+        let max_of = |s: &State| -> f64 {
+            s.evaluate_all(self.chord_error).map_or(f64::INFINITY, |e| {
+                e.iter().map(|x| x.max).fold(0.0, f64::max)
+            })
+        };
+        let before = state.clone();
+        let max_before = max_of(&before);
+        refine(state, options);
+        let max_after = max_of(state);
+        if max_after > self.tolerance.max(max_before) {
+            *state = before;
         }
     }
 
-    /// Sets each segment's original sample range from the samples its interval holds; the
-    /// chain's ends take the piece's ends.
-    fn assign_sample_ranges(&self, segments: &mut [ChainSegment]) {
-        let n = segments.len();
+    /// Makes every segment of the state constructible: a segment whose α cannot join its joints
+    /// gets the α its samples choose, and where no α can, the biarc's joint is inserted (both
+    /// arcs are reproduced by any α). Refinement and output rely on a valid state.
+    fn repair(
+        &self,
+        state: &mut State<'a>,
+        searches: &mut Vec<AlphaSearch>,
+    ) -> Result<(), ChainError> {
+        let middle = match self.options.alpha {
+            AlphaChoice::Range { min, max } => 0.5 * (min + max),
+            AlphaChoice::Fixed(a) => a,
+        };
+        let mut k = 0;
+        while k < state.len() {
+            if state.segment(k).is_ok() {
+                k += 1;
+                continue;
+            }
+            let (a, b) = (state.joints[k], state.joints[k + 1]);
+            let mut reference = state.points_of(k);
+            if reference.is_empty() {
+                reference.push(a.p.midpoint(b.p));
+            }
+            if let Ok(fit) = fit_span(
+                a.p,
+                a.tangent(),
+                b.p,
+                b.tangent(),
+                &reference,
+                self.options.alpha,
+                self.chord_error,
+            ) {
+                state.alphas[k] = fit.segment.alpha().unwrap_or(middle);
+                searches[k] = fit.search;
+                k += 1;
+                continue;
+            }
+            let [s0, s1] =
+                biarc(a.p, a.tangent(), b.p, b.tangent()).map_err(|source| ChainError::Span {
+                    u0: 0.0,
+                    u1: 0.0,
+                    source,
+                })?;
+            let mid = Joint {
+                p: s0.end(),
+                angle: s0.theta1(),
+                kind: JointKind::Subdivision,
+                fixed: false,
+            };
+            // Each sample goes to the arc it is nearer to.
+            let d0 = deviation(&s0, &reference, self.chord_error);
+            let d1 = deviation(&s1, &reference, self.chord_error);
+            let (mut first, mut second) = (Vec::new(), Vec::new());
+            for (n, &i) in state.samples[k].iter().enumerate() {
+                let near_first = d0.distances.get(n) <= d1.distances.get(n);
+                if near_first {
+                    first.push(i)
+                } else {
+                    second.push(i)
+                }
+            }
+            state.joints.insert(k + 1, mid);
+            state.alphas.splice(k..=k, [middle, middle]);
+            state.samples.splice(k..=k, [first, second]);
+            searches.splice(k..=k, [AlphaSearch::default(), AlphaSearch::default()]);
+            k += 2;
+        }
+        Ok(())
+    }
+
+    /// Removes joints at curvature extrema and subdivisions where one segment covers both
+    /// neighbours within the tolerance. Returns whether any was removed.
+    fn merge(&self, state: &mut State<'a>, searches: &mut Vec<AlphaSearch>) -> bool {
+        let mut merged = false;
+        let mut j = 1;
+        while j + 1 < state.joints.len() {
+            let mergeable = matches!(
+                state.joints[j].kind,
+                JointKind::CurvatureExtremum | JointKind::Subdivision
+            );
+            if mergeable {
+                let (a, b) = (state.joints[j - 1], state.joints[j + 1]);
+                let union: Vec<usize> = state.samples[j - 1]
+                    .iter()
+                    .chain(&state.samples[j])
+                    .copied()
+                    .collect();
+                if union.len() >= MIN_SPAN_SAMPLES
+                    && let Ok((alpha, search)) = self.search(&a, &b, &union, (0.0, 0.0))
+                {
+                    let mut trial = state.clone();
+                    trial.joints.remove(j);
+                    trial.alphas.splice(j - 1..=j, [alpha]);
+                    trial.samples.splice(j - 1..=j, [union]);
+                    if matches!(trial.evaluate(j - 1, self.chord_error), Ok(e) if e.max <= self.tolerance)
+                    {
+                        *state = trial;
+                        searches.splice(j - 1..=j, [search]);
+                        merged = true;
+                        continue;
+                    }
+                }
+            }
+            j += 1;
+        }
+        merged
+    }
+
+    /// The output segments with their sample ranges and deviations.
+    fn finish(&self, state: &State, searches: Vec<AlphaSearch>) -> Result<Chain, ChainError> {
+        let n = state.len();
+        let mut segments = Vec::with_capacity(n);
         let mut previous_end = self.input.samples.0;
-        for (k, seg) in segments.iter_mut().enumerate() {
-            let end_of_curve = k + 1 == n;
-            let held: Vec<usize> = self
-                .order
+        for (k, search) in searches.into_iter().enumerate() {
+            let segment = state.segment(k).map_err(|source| ChainError::Span {
+                u0: 0.0,
+                u1: 0.0,
+                source,
+            })?;
+            let d = deviation(&segment, &state.points_of(k), self.chord_error);
+            let held: Vec<usize> = state.samples[k]
                 .iter()
-                .filter(|&&i| {
-                    let u = self.input.params[i];
-                    u >= seg.u.0 && (u < seg.u.1 || (end_of_curve && u <= seg.u.1))
-                })
                 .map(|&i| self.input.indices[i])
                 .collect();
             let first = if k == 0 {
@@ -372,26 +548,28 @@ impl<'a> Fitter<'a> {
             } else {
                 held.iter().copied().min().unwrap_or(previous_end)
             };
-            let last = if end_of_curve {
+            let last = if k + 1 == n {
                 self.input.samples.1
             } else {
                 held.iter().copied().max().unwrap_or(first)
             };
-            seg.samples = (first, last.max(first));
-            previous_end = seg.samples.1;
+            previous_end = last.max(first);
+            segments.push(ChainSegment {
+                segment,
+                samples: (first, last.max(first)),
+                max_deviation: d.max,
+                rms_deviation: d.rms,
+                search,
+                start: state.joints[k].kind,
+                end: state.joints[k + 1].kind,
+            });
         }
-    }
-}
-
-fn segment_of(fit: SpanFit, start: JointKind, end: JointKind, u: (f64, f64)) -> ChainSegment {
-    ChainSegment {
-        max_deviation: fit.deviation.max,
-        rms_deviation: fit.deviation.rms,
-        segment: fit.segment,
-        samples: (0, 0),
-        search: fit.search,
-        start,
-        end,
-        u,
+        let max_deviation = segments.iter().map(|s| s.max_deviation).fold(0.0, f64::max);
+        Ok(Chain {
+            segments,
+            max_deviation,
+            within_tolerance: max_deviation <= self.tolerance,
+            refined: self.options.refine,
+        })
     }
 }

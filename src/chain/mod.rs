@@ -14,5 +14,7 @@
 //! Fewer segments are better, as the seed paper's future work asks.
 
 mod fit;
+mod refine;
+mod state;
 
 pub use fit::{Chain, ChainError, ChainInput, ChainOptions, ChainSegment, JointKind, fit_chain};

@@ -10,7 +10,7 @@
 
 use serde::Serialize;
 
-use super::deviation::{Deviation, deviation};
+use super::deviation::{Deviation, deviation, rough_deviation};
 use super::error::LacError;
 use super::minimize::brent;
 use super::segment::LacSegment;
@@ -120,7 +120,7 @@ pub fn fit_span(
     let mut evaluate = |alpha: f64| -> Option<(LacSegment, Deviation)> {
         evaluations += 1;
         let segment = fit_g1(a, ta, b, tb, alpha).ok()?;
-        let d = deviation(&segment, samples, search_chord);
+        let d = rough_deviation(&segment, samples, search_chord);
         Some((segment, d))
     };
 

@@ -30,16 +30,106 @@ pub struct Deviation {
     pub distances: Vec<f64>,
     /// Each sample's foot point, as arc length along the segment.
     pub feet: Vec<f64>,
+    /// Each sample's side: +1 left of the direction of travel, −1 right (0 on it).
+    pub sides: Vec<f64>,
     /// The largest distance (0 without samples).
     pub max: f64,
     /// The root mean square distance (0 without samples).
     pub rms: f64,
 }
 
-/// Distances from `samples` (ordered along the segment) to `segment`, exact to `chord_error`.
+/// Newton steps polishing a polyline foot into the exact foot point. The polyline foot is within
+/// one spacing of the exact one and Newton converges quadratically from there: two steps reach
+/// rounding for the chord errors used; a third is cheap insurance.
+const FOOT_NEWTON_STEPS: usize = 3;
+
+/// Exact distances from `samples` (ordered along the segment) to `segment`: the polyline foot at
+/// `chord_error` (see [`project_ordered`]) polished by Newton's method on the foot-point equation
+/// (P(s) − q)·T(s) = 0, with P(s) integrated from the nearest polyline vertex. Exact to rounding
+/// and smooth in the segment's parameters (the chain refinement differentiates it).
 pub fn deviation(segment: &LacSegment, samples: &[Point], chord_error: f64) -> Deviation {
     let polyline = trace(segment, chord_error);
+    let mut d = project_raw(&polyline, samples);
+    polish_feet(segment, &polyline, samples, chord_error, &mut d);
+    summarise(d)
+}
+
+/// Distances to the polyline only (exact to `chord_error`): cheaper, for ranking candidates.
+pub fn rough_deviation(segment: &LacSegment, samples: &[Point], chord_error: f64) -> Deviation {
+    let polyline = trace(segment, chord_error);
     project_ordered(&polyline, samples)
+}
+
+/// Replaces polyline feet by exact foot points (see [`deviation`]).
+fn polish_feet(
+    segment: &LacSegment,
+    polyline: &[(f64, Point)],
+    samples: &[Point],
+    chord_error: f64,
+    d: &mut Deviation,
+) {
+    let length = segment.length();
+    for (i, q) in samples.iter().enumerate() {
+        let mut s = d.feet[i];
+        let mut p = point_near(segment, polyline, s);
+        for _ in 0..FOOT_NEWTON_STEPS {
+            let theta = segment.theta(s);
+            let (t, n) = (
+                Vec2::new(theta.cos(), theta.sin()),
+                Vec2::new(-theta.sin(), theta.cos()),
+            );
+            let r = p - *q;
+            let slope = 1.0 + segment.kappa(s) * r.dot(n);
+            if !(slope > 0.0) {
+                break;
+            }
+            let next = (s - r.dot(t) / slope).clamp(0.0, length);
+            if next == s {
+                break;
+            }
+            s = next;
+            p = point_near(segment, polyline, s);
+        }
+        let theta = segment.theta(s);
+        let n = Vec2::new(-theta.sin(), theta.cos());
+        let distance = q.distance(p);
+        // The exact distance differs from the polyline's by at most the chord error (the chords
+        // cut inside the curve); anything farther means Newton wandered to another foot, and the
+        // polyline's answer is kept.
+        if distance <= d.distances[i] + chord_error {
+            d.distances[i] = distance;
+            d.feet[i] = s;
+            d.sides[i] = (*q - p).dot(n).signum();
+        }
+    }
+}
+
+/// The segment's point at arc length `s`, integrated from the nearest polyline vertex with the
+/// 3-point rule (the step is at most half a spacing).
+fn point_near(segment: &LacSegment, polyline: &[(f64, Point)], s: f64) -> Point {
+    let k = polyline.partition_point(|v| v.0 <= s);
+    let (s0, p0) = match (
+        k.checked_sub(1).and_then(|j| polyline.get(j)),
+        polyline.get(k),
+    ) {
+        (Some(a), Some(b)) => {
+            if s - a.0 <= b.0 - s {
+                *a
+            } else {
+                *b
+            }
+        }
+        (Some(a), None) => *a,
+        (None, Some(b)) => *b,
+        (None, None) => return segment.point(s),
+    };
+    let h = s - s0;
+    let mut p = p0;
+    for &(w, x) in GAUSS_3 {
+        let theta = segment.theta(s0 + 0.5 * h * (1.0 + x));
+        p += Vec2::new(theta.cos(), theta.sin()) * (0.5 * h * w);
+    }
+    p
 }
 
 /// The segment as `(arc length, point)` vertices with chord error at most `chord_error`; the last
@@ -83,9 +173,16 @@ const GAUSS_3: &[(f64, f64)] = &[
 
 /// Projects ordered samples onto an ordered polyline.
 pub fn project_ordered(polyline: &[(f64, Point)], samples: &[Point]) -> Deviation {
+    let out = project_raw(polyline, samples);
+    summarise(out)
+}
+
+/// [`project_ordered`] without the summary figures.
+fn project_raw(polyline: &[(f64, Point)], samples: &[Point]) -> Deviation {
     let mut out = Deviation {
         distances: Vec::with_capacity(samples.len()),
         feet: Vec::with_capacity(samples.len()),
+        sides: Vec::with_capacity(samples.len()),
         ..Deviation::default()
     };
     if polyline.is_empty() {
@@ -95,21 +192,22 @@ pub fn project_ordered(polyline: &[(f64, Point)], samples: &[Point]) -> Deviatio
         for q in samples {
             out.distances.push(q.distance(polyline[0].1));
             out.feet.push(polyline[0].0);
+            out.sides.push(0.0);
         }
-        return summarise(out);
+        return out;
     }
     let spacing = polyline[1].0 - polyline[0].0;
     let mut start = 0usize;
     for q in samples {
         // Samples can step back a little (noise): begin a couple of vertices behind.
         let mut k = start.saturating_sub(2);
-        let mut best = (f64::INFINITY, polyline[0].0, start);
+        let mut best = (f64::INFINITY, polyline[0].0, start, 0.0);
         while k + 1 < polyline.len() {
             let (s0, a) = polyline[k];
             let (s1, b) = polyline[k + 1];
             let (d, f) = segment_distance(*q, a, b);
             if d < best.0 {
-                best = (d, s0 + f * (s1 - s0), k);
+                best = (d, s0 + f * (s1 - s0), k, (b - a).cross(*q - a).signum());
             }
             if q.distance(a) > 2.0 * best.0 + LOOKAHEAD_SPACINGS * spacing {
                 break;
@@ -118,9 +216,10 @@ pub fn project_ordered(polyline: &[(f64, Point)], samples: &[Point]) -> Deviatio
         }
         out.distances.push(best.0);
         out.feet.push(best.1);
+        out.sides.push(if best.0 > 0.0 { best.3 } else { 0.0 });
         start = best.2;
     }
-    summarise(out)
+    out
 }
 
 /// Distance from `q` to segment `ab` and the foot's fraction along it.
@@ -137,6 +236,8 @@ fn segment_distance(q: Point, a: Point, b: Point) -> (f64, f64) {
 
 fn summarise(mut d: Deviation) -> Deviation {
     let n = d.distances.len();
+    d.max = 0.0;
+    d.rms = 0.0;
     if n > 0 {
         d.max = d.distances.iter().copied().fold(0.0, f64::max);
         d.rms = (d.distances.iter().map(|x| x * x).sum::<f64>() / n as f64).sqrt();
@@ -190,6 +291,28 @@ mod tests {
                 let error = p.distance(seg.point(s));
                 assert!(error < 1e-2 * chord, "alpha {alpha}, s {s}: {error}");
             }
+        }
+    }
+
+    #[test]
+    fn polished_distances_are_exact_foot_points() {
+        // Samples offset along the exact normal of a spiral come back at exactly their offset.
+        let seg = LacSegment::new(Point::new(0.0, 0.0), 0.2, 50.0, Some(0.5), 0.15, 0.02)
+            .expect("segment");
+        let samples: Vec<Point> = (1..40)
+            .map(|i| {
+                let s = 50.0 * i as f64 / 40.0;
+                let th = seg.theta(s);
+                let offset: f64 = if i % 2 == 0 { 0.08 } else { -0.05 };
+                seg.point(s) + Vec2::new(-th.sin(), th.cos()) * offset
+            })
+            .collect();
+        let d = deviation(&seg, &samples, 0.01);
+        for (i, (x, side)) in d.distances.iter().zip(&d.sides).enumerate() {
+            let offset: f64 = if (i + 1) % 2 == 0 { 0.08 } else { -0.05 };
+            assert!((x - offset.abs()).abs() < 1e-9, "sample {i}: {x}");
+            assert_eq!(*side, offset.signum());
+            assert!((d.feet[i] - 50.0 * (i + 1) as f64 / 40.0).abs() < 1e-7);
         }
     }
 }

@@ -35,7 +35,7 @@ pub mod yoshida_saito;
 
 pub use alpha_search::{AlphaChoice, AlphaSearch, SpanFit, fit_span};
 pub use biarc::biarc;
-pub use deviation::{Deviation, deviation};
+pub use deviation::{Deviation, deviation, rough_deviation};
 pub use error::LacError;
 pub use lcg::{LcgLine, LcgPoint, lcg_line, lcg_of_bezier_span, lcg_of_segment, lcg_slope};
 pub use segment::{LacSample, LacSamples, LacSegment, LacSegmentRecord};

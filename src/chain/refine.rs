@@ -1,0 +1,178 @@
+//! Levenberg–Marquardt refinement of a chain (beyond the seed paper).
+//!
+//! The B-spline's end points and tangents are only estimates: noise and the pen's dwell bias a
+//! tangent at a high-curvature end by a degree or more, and with the G1 data held that moves the
+//! best α by 0.1–0.2. Here every joint's position (unless held) and tangent angle and every
+//! segment's α are unknowns, each segment stays the Yoshida–Saito segment of its joints (so the
+//! chain stays G1), and the sum of squared signed foot-point distances of the samples is
+//! minimised: x ← x − (JᵀJ + λ·diag(JᵀJ))⁻¹ Jᵀr, with J by forward differences (a joint moves
+//! only its two segments, an α only its own) and λ adapted (Marquardt 1963). A step is taken only
+//! when it lowers the cost, so the result is never worse than the start.
+
+use nalgebra::{DMatrix, DVector};
+
+use super::state::{Evaluated, State, cost};
+
+/// Options of [`refine`].
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(crate) struct RefineOptions {
+    /// Iteration budget (Jacobian evaluations).
+    pub max_iterations: usize,
+    /// Allowed α interval; `None` holds every α (a fixed-α chain).
+    pub alpha_range: Option<(f64, f64)>,
+    /// Chord error of the tracing that seeds the foot points.
+    pub chord_error: f64,
+    /// Length scale of the chain (for finite-difference steps on positions).
+    pub scale: f64,
+}
+
+/// Finite-difference step on a position, relative to the chain's scale: about √ε of it, the
+/// classic optimum for forward differences of a function exact to rounding.
+const POSITION_STEP: f64 = 1e-7;
+/// Finite-difference step on a tangent angle (radians).
+const ANGLE_STEP: f64 = 1e-7;
+/// Finite-difference step on α.
+const ALPHA_STEP: f64 = 1e-6;
+/// Initial damping relative to the diagonal of JᵀJ.
+const LAMBDA_START: f64 = 1e-3;
+/// Damping beyond which no step can help any more (the step has shrunk to rounding).
+const LAMBDA_MAX: f64 = 1e12;
+/// Relative cost decrease below which the iteration has converged.
+const CONVERGED: f64 = 1e-10;
+
+/// One unknown.
+#[derive(Clone, Copy, Debug)]
+enum Unknown {
+    X(usize),
+    Y(usize),
+    Angle(usize),
+    Alpha(usize),
+}
+
+fn unknowns(state: &State<'_>, options: &RefineOptions) -> Vec<Unknown> {
+    let mut out = Vec::new();
+    for (j, joint) in state.joints.iter().enumerate() {
+        if !joint.fixed {
+            out.push(Unknown::X(j));
+            out.push(Unknown::Y(j));
+        }
+        out.push(Unknown::Angle(j));
+    }
+    if options.alpha_range.is_some() {
+        out.extend((0..state.len()).map(Unknown::Alpha));
+    }
+    out
+}
+
+/// The segments an unknown moves.
+fn touched(unknown: Unknown, segments: usize) -> std::ops::Range<usize> {
+    match unknown {
+        Unknown::X(j) | Unknown::Y(j) | Unknown::Angle(j) => {
+            j.saturating_sub(1)..(j + 1).min(segments)
+        }
+        Unknown::Alpha(k) => k..k + 1,
+    }
+}
+
+fn add(state: &mut State<'_>, unknown: Unknown, delta: f64, options: &RefineOptions) {
+    match unknown {
+        Unknown::X(j) => state.joints[j].p.x += delta,
+        Unknown::Y(j) => state.joints[j].p.y += delta,
+        Unknown::Angle(j) => state.joints[j].angle += delta,
+        Unknown::Alpha(k) => {
+            let (lo, hi) = options
+                .alpha_range
+                .unwrap_or((f64::NEG_INFINITY, f64::INFINITY));
+            state.alphas[k] = (state.alphas[k] + delta).clamp(lo, hi);
+        }
+    }
+}
+
+fn step_of(unknown: Unknown, options: &RefineOptions) -> f64 {
+    match unknown {
+        Unknown::X(_) | Unknown::Y(_) => POSITION_STEP * options.scale,
+        Unknown::Angle(_) => ANGLE_STEP,
+        Unknown::Alpha(_) => ALPHA_STEP,
+    }
+}
+
+/// Refines `state` in place; returns the evaluated final state (or `None` if the start itself
+/// cannot be evaluated, in which case the state is untouched).
+pub(crate) fn refine(state: &mut State<'_>, options: &RefineOptions) -> Option<Vec<Evaluated>> {
+    let mut current = state.evaluate_all(options.chord_error).ok()?;
+    let mut current_cost = cost(&current);
+    let unknowns = unknowns(state, options);
+    if unknowns.is_empty() || current_cost == 0.0 {
+        return Some(current);
+    }
+    // Row offset of each segment's residuals.
+    let offsets: Vec<usize> = current
+        .iter()
+        .scan(0, |acc, e| {
+            let start = *acc;
+            *acc += e.residuals.len();
+            Some(start)
+        })
+        .collect();
+    let rows = offsets
+        .last()
+        .map_or(0, |&o| o + current.last().map_or(0, |e| e.residuals.len()));
+    let mut lambda = LAMBDA_START;
+    for _ in 0..options.max_iterations {
+        // Jacobian by forward differences, segment-local.
+        let mut jac = DMatrix::<f64>::zeros(rows, unknowns.len());
+        for (c, &u) in unknowns.iter().enumerate() {
+            let h = step_of(u, options);
+            let mut probe = state.clone();
+            add(&mut probe, u, h, options);
+            for k in touched(u, state.len()) {
+                let Ok(e) = probe.evaluate(k, options.chord_error) else {
+                    continue;
+                };
+                for (i, (r1, r0)) in e.residuals.iter().zip(&current[k].residuals).enumerate() {
+                    jac[(offsets[k] + i, c)] = (r1 - r0) / h;
+                }
+            }
+        }
+        let r = DVector::from_iterator(
+            rows,
+            current.iter().flat_map(|e| e.residuals.iter().copied()),
+        );
+        let jtj = jac.transpose() * &jac;
+        let jtr = jac.transpose() * &r;
+        let mut improved = false;
+        while lambda < LAMBDA_MAX {
+            let mut a = jtj.clone();
+            for i in 0..a.nrows() {
+                // Marquardt's scaling, with a floor for unknowns the data barely see.
+                a[(i, i)] += lambda * jtj[(i, i)].max(f64::MIN_POSITIVE.sqrt());
+            }
+            let Some(chol) = a.cholesky() else {
+                lambda *= 10.0;
+                continue;
+            };
+            let delta = chol.solve(&jtr);
+            let mut trial = state.clone();
+            for (c, &u) in unknowns.iter().enumerate() {
+                add(&mut trial, u, -delta[c], options);
+            }
+            match trial.evaluate_all(options.chord_error) {
+                Ok(e) if cost(&e) < current_cost => {
+                    let new_cost = cost(&e);
+                    let decrease = (current_cost - new_cost) / current_cost;
+                    *state = trial;
+                    current = e;
+                    current_cost = new_cost;
+                    lambda = (lambda / 3.0).max(1e-12);
+                    improved = decrease > CONVERGED;
+                    break;
+                }
+                _ => lambda *= 4.0,
+            }
+        }
+        if !improved {
+            break;
+        }
+    }
+    Some(current)
+}

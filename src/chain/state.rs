@@ -1,0 +1,101 @@
+//! The chain as unknowns: joints (position, tangent angle) and one α per segment. Every segment
+//! is the Yoshida–Saito segment of its two joints ([`fit_g1`]), so any state is G1.
+
+use crate::geom::{Point, Vec2};
+use crate::lac::{LacError, LacSegment, deviation, fit_g1};
+
+use super::JointKind;
+
+/// A joint of the chain.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(crate) struct Joint {
+    /// Position.
+    pub p: Point,
+    /// Tangent angle (radians).
+    pub angle: f64,
+    /// What the joint is.
+    pub kind: JointKind,
+    /// Whether the position is held (a corner shared with the neighbouring piece).
+    pub fixed: bool,
+}
+
+impl Joint {
+    /// The unit tangent.
+    pub fn tangent(&self) -> Vec2 {
+        Vec2::new(self.angle.cos(), self.angle.sin())
+    }
+}
+
+/// The chain's unknowns and the samples each segment answers for.
+#[derive(Clone, Debug)]
+pub(crate) struct State<'a> {
+    /// All sample positions of the piece.
+    pub points: &'a [Point],
+    /// K + 1 joints.
+    pub joints: Vec<Joint>,
+    /// K slopes.
+    pub alphas: Vec<f64>,
+    /// For each segment, the indices (into `points`, ordered along the curve) of the samples it
+    /// is measured against.
+    pub samples: Vec<Vec<usize>>,
+}
+
+/// Signed distances of a segment's samples (the LM residuals).
+#[derive(Clone, Debug)]
+pub(crate) struct Evaluated {
+    /// Signed distance of each sample (left of travel positive).
+    pub residuals: Vec<f64>,
+    /// Largest |residual|.
+    pub max: f64,
+}
+
+impl State<'_> {
+    /// Number of segments.
+    pub fn len(&self) -> usize {
+        self.alphas.len()
+    }
+
+    /// Segment `k` of the state.
+    pub fn segment(&self, k: usize) -> Result<LacSegment, LacError> {
+        let (a, b) = (self.joints[k], self.joints[k + 1]);
+        fit_g1(a.p, a.tangent(), b.p, b.tangent(), self.alphas[k])
+    }
+
+    /// Segment `k` and its samples' signed distances (exact foot points; `chord_error` only sets
+    /// the tracing that seeds them).
+    pub fn evaluate(&self, k: usize, chord_error: f64) -> Result<Evaluated, LacError> {
+        let segment = self.segment(k)?;
+        let d = deviation(&segment, &self.points_of(k), chord_error);
+        let residuals = d
+            .distances
+            .iter()
+            .zip(&d.sides)
+            .map(|(x, s)| x * s)
+            .collect();
+        Ok(Evaluated {
+            residuals,
+            max: d.max,
+        })
+    }
+
+    /// The sample positions of segment `k`.
+    pub fn points_of(&self, k: usize) -> Vec<Point> {
+        self.samples[k].iter().map(|&i| self.points[i]).collect()
+    }
+
+    /// Every segment evaluated, or the first failure.
+    pub fn evaluate_all(&self, chord_error: f64) -> Result<Vec<Evaluated>, LacError> {
+        (0..self.len())
+            .map(|k| self.evaluate(k, chord_error))
+            .collect()
+    }
+}
+
+/// Sum of squared residuals.
+pub(crate) fn cost(evaluated: &[Evaluated]) -> f64 {
+    evaluated
+        .iter()
+        .flat_map(|e| e.residuals.iter())
+        .map(|r| r * r)
+        .sum()
+}

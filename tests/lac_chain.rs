@@ -1,0 +1,166 @@
+//! The log-aesthetic chain against planted answers and on every fixture.
+
+mod common;
+
+use common::lac::{pen_stroke, planted_segment};
+use common::*;
+use kansei::chain::JointKind;
+use kansei::geom::{Point, Vec2};
+use kansei::lac::LacSegment;
+use kansei::pipeline::{CurveFit, PipelineOptions, fit_file, fit_stroke};
+use kansei::stroke::{Sample, Stroke};
+
+fn chain_of(fit: &CurveFit) -> &kansei::chain::Chain {
+    fit.chain
+        .as_ref()
+        .expect("the pipeline fits chains by default")
+}
+
+/// Angle difference wrapped to (−π, π].
+fn angle_gap(a: f64, b: f64) -> f64 {
+    (a - b + std::f64::consts::PI).rem_euclid(std::f64::consts::TAU) - std::f64::consts::PI
+}
+
+#[test]
+fn planted_alpha_is_recovered_from_a_pen_like_stroke() {
+    // Length 100 mm, curvature falling 5:1, noise 0.02 mm (0.02 % of the length), 301 samples at
+    // a speed that starts and ends at rest plus 15 dwell samples at each end.
+    let sigma = 0.02;
+    for alpha in [-1.5, -1.0, -0.5, 0.0, 0.5, 1.0, 1.5, 2.0] {
+        for (turning, seed) in [(60.0f64, 1), (105.0, 2), (150.0, 3)] {
+            let planted = planted_segment(alpha, 100.0, 5.0, turning.to_radians());
+            let stroke = pen_stroke(&planted, 300, 15, sigma, seed);
+            let fits = fit_stroke(&stroke, 0, 0.1, &PipelineOptions::default()).expect("fit");
+            assert_eq!(fits.len(), 1, "alpha {alpha}, turning {turning}: pieces");
+            let chain = chain_of(&fits[0]);
+            assert_eq!(
+                chain.segments.len(),
+                1,
+                "alpha {alpha}, turning {turning}: segments"
+            );
+            let found = chain.segments[0].segment.alpha().expect("not an arc");
+            assert!(
+                (found - alpha).abs() < 0.05,
+                "alpha {alpha}, turning {turning}: found {found}"
+            );
+            // Near the noise: the largest of ~300 2-D Gaussian offsets is about 3.4σ.
+            assert!(
+                chain.max_deviation < 5.0 * sigma,
+                "alpha {alpha}: deviation {}",
+                chain.max_deviation
+            );
+        }
+    }
+}
+
+#[test]
+fn two_clothoids_meeting_at_an_inflection_give_two_clothoids() {
+    // κ: +0.05 → 0 over 60 mm, then 0 → −0.05 over 60 mm (α = −1 both, G2 at the inflection).
+    let first = LacSegment::new(Point::ZERO, 0.0, 60.0, Some(-1.0), 0.05, 0.0).expect("clothoid");
+    let second = LacSegment::new(first.end(), first.theta1(), 60.0, Some(-1.0), 0.0, -0.05)
+        .expect("clothoid");
+    let mut rng = Rng::new(11);
+    let mut points = Vec::new();
+    for (k, seg) in [first, second].iter().enumerate() {
+        for i in 0..=200 {
+            if k == 1 && i == 0 {
+                continue;
+            }
+            let p = seg.point(seg.length() * i as f64 / 200.0);
+            points.push(p + Vec2::new(0.01 * rng.normal(), 0.01 * rng.normal()));
+        }
+    }
+    let stroke = Stroke::new(
+        points
+            .iter()
+            .enumerate()
+            .map(|(i, p)| Sample::new(p.x, p.y).with_t(i as f64 * 0.005))
+            .collect(),
+    );
+    let fits = fit_stroke(&stroke, 0, 0.1, &PipelineOptions::default()).expect("fit");
+    assert_eq!(fits.len(), 1);
+    let chain = chain_of(&fits[0]);
+    assert!(chain.within_tolerance, "deviation {}", chain.max_deviation);
+    assert_eq!(
+        chain.segments.len(),
+        2,
+        "{:?}",
+        chain
+            .segments
+            .iter()
+            .map(|s| s.segment.alpha())
+            .collect::<Vec<_>>()
+    );
+    assert_eq!(chain.segments[0].end, JointKind::Inflection);
+    for s in &chain.segments {
+        let alpha = s.segment.alpha().expect("not an arc");
+        assert!((alpha + 1.0).abs() < 0.15, "alpha {alpha}");
+    }
+    let joint = chain.segments[0].segment.end();
+    assert!(
+        joint.distance(first.end()) < 1.0,
+        "inflection at {joint:?}, planted at {:?}",
+        first.end()
+    );
+}
+
+#[test]
+fn a_compound_rhythm_curve_needs_at_most_three_segments() {
+    // α = −1.5 with κ 0.01 → 0.03, then α = 0.5 with κ 0.03 → 0.12: curvature-continuous, one
+    // monotonic rhythm change.
+    let first = LacSegment::new(Point::ZERO, 0.0, 50.0, Some(-1.5), 0.01, 0.03).expect("segment");
+    let second =
+        LacSegment::new(first.end(), first.theta1(), 30.0, Some(0.5), 0.03, 0.12).expect("segment");
+    let mut rng = Rng::new(5);
+    let points: Vec<Point> = (0..=400)
+        .map(|i| {
+            let s = 80.0 * i as f64 / 400.0;
+            let p = if s <= 50.0 {
+                first.point(s)
+            } else {
+                second.point(s - 50.0)
+            };
+            p + Vec2::new(0.01 * rng.normal(), 0.01 * rng.normal())
+        })
+        .collect();
+    let stroke = Stroke::from_points(points);
+    let fits = fit_stroke(&stroke, 0, 0.1, &PipelineOptions::default()).expect("fit");
+    let segments: usize = fits.iter().map(|f| chain_of(f).segments.len()).sum();
+    assert!(fits.iter().all(|f| chain_of(f).within_tolerance));
+    assert!((1..=3).contains(&segments), "{segments} segments");
+}
+
+#[test]
+fn every_fixture_chain_is_g1_and_within_tolerance() {
+    for name in fixture_names() {
+        let file = fixture(&name);
+        let tol = file.units.default_tolerance();
+        let out = fit_file(&file, &PipelineOptions::default()).expect("fit");
+        for fit in &out.curves {
+            let chain = chain_of(fit);
+            assert!(
+                chain.within_tolerance,
+                "{name} stroke {} {:?}: {} > {tol}",
+                fit.stroke, fit.samples, chain.max_deviation
+            );
+            for w in chain.segments.windows(2) {
+                let (a, b) = (&w[0].segment, &w[1].segment);
+                let scale = a.length().max(b.length());
+                assert!(
+                    a.end().distance(b.start()) <= 1e-9 * scale,
+                    "{name}: joint gap {}",
+                    a.end().distance(b.start())
+                );
+                assert!(
+                    angle_gap(a.theta1(), b.theta0()).abs() <= 1e-9,
+                    "{name}: tangent break {}",
+                    angle_gap(a.theta1(), b.theta0())
+                );
+            }
+            // The chain covers the piece's samples, segment after segment.
+            let segs = &chain.segments;
+            assert_eq!(segs.first().map(|s| s.samples.0), Some(fit.samples.0));
+            assert_eq!(segs.last().map(|s| s.samples.1), Some(fit.samples.1));
+        }
+    }
+}
