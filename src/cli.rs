@@ -6,7 +6,8 @@ use std::time::Instant;
 
 use clap::{Args, Parser, Subcommand};
 
-use crate::export::CurveFile;
+use crate::export::{CurveFile, ExportOptions, SvgLayers, SvgOptions, quick_look_svg};
+use crate::lac::AlphaChoice;
 use crate::pipeline::{PipelineOptions, fit_file};
 use crate::stroke::{StrokeError, StrokeFile};
 
@@ -42,16 +43,42 @@ pub struct FitSettings {
     /// Keep the pen's landing and lifting as drawn (hooks and dwell) instead of dropping them.
     #[arg(long)]
     pub keep_hooks: bool,
+    /// Give every segment this α (e.g. −1: clothoids only).
+    #[arg(long, allow_negative_numbers = true, conflicts_with = "alpha_range")]
+    pub alpha: Option<f64>,
+    /// Search α in MIN:MAX [default: -3:3].
+    #[arg(long, value_parser = parse_alpha_range, allow_hyphen_values = true)]
+    pub alpha_range: Option<(f64, f64)>,
+}
+
+/// Parses `MIN:MAX` into a finite, non-empty interval.
+fn parse_alpha_range(text: &str) -> Result<(f64, f64), String> {
+    let (a, b) = text
+        .split_once(':')
+        .ok_or_else(|| format!("expected MIN:MAX, got {text:?}"))?;
+    let parse = |x: &str| x.trim().parse::<f64>().map_err(|e| format!("{x:?}: {e}"));
+    let (min, max) = (parse(a)?, parse(b)?);
+    if min.is_finite() && max.is_finite() && min <= max {
+        Ok((min, max))
+    } else {
+        Err(format!("{text:?} is not a finite interval with MIN <= MAX"))
+    }
 }
 
 impl FitSettings {
     fn options(&self) -> PipelineOptions {
-        PipelineOptions {
+        let mut options = PipelineOptions {
             tolerance: self.tolerance,
             corner_angle: self.corner_angle,
             keep_hooks: self.keep_hooks,
             ..PipelineOptions::default()
+        };
+        if let Some(alpha) = self.alpha {
+            options.chain.alpha = AlphaChoice::Fixed(alpha);
+        } else if let Some((min, max)) = self.alpha_range {
+            options.chain.alpha = AlphaChoice::Range { min, max };
         }
+        options
     }
 }
 
@@ -65,6 +92,13 @@ pub struct FitArgs {
     /// receives `<input stem>.curve.json` for each.
     #[arg(long)]
     pub json: Option<PathBuf>,
+    /// Also write a quick-look SVG (samples, B-spline, LAC segments coloured by α, splits).
+    /// With several inputs, a directory that receives `<input stem>.svg` for each.
+    #[arg(long)]
+    pub svg: Option<PathBuf>,
+    /// Include each segment's logarithmic curvature graphs (LAC and B-spline) in the JSON.
+    #[arg(long)]
+    pub lcg: bool,
     /// Fitting settings.
     #[command(flatten)]
     pub settings: FitSettings,
@@ -145,30 +179,76 @@ fn fit(args: &FitArgs, out: &mut dyn std::io::Write) -> Result<(), CliError> {
             "--tolerance must be a positive number, got {t}"
         )));
     }
+    if let Some(alpha) = args.settings.alpha
+        && !alpha.is_finite()
+    {
+        return Err(CliError::Usage(format!(
+            "--alpha must be a finite number, got {alpha}"
+        )));
+    }
     let several = args.inputs.len() > 1;
-    if let Some(dir) = args.json.as_ref().filter(|_| several) {
+    for dir in [&args.json, &args.svg]
+        .into_iter()
+        .flatten()
+        .filter(|_| several)
+    {
         std::fs::create_dir_all(dir).map_err(|source| CliError::Io {
             path: dir.clone(),
             source,
         })?;
     }
+    let target = |input: &Path, path: &PathBuf, extension: &str| -> PathBuf {
+        if several {
+            let stem = input
+                .file_stem()
+                .map(|s| s.to_string_lossy())
+                .unwrap_or_default();
+            path.join(format!("{stem}.{extension}"))
+        } else {
+            path.clone()
+        }
+    };
     for input in &args.inputs {
         let file = read_strokes(input)?;
         let output = fit_file(&file, &options).map_err(|source| CliError::Pipeline {
             path: input.clone(),
             source,
         })?;
-        let doc = CurveFile::from_output(&output);
-        for c in output.curves.iter().filter(|c| !c.bspline.within_tolerance) {
-            eprintln!(
-                "warning: {}: stroke {}, samples {}..={}: best fit deviates {:.4} > tolerance {}",
-                input.display(),
-                c.stroke,
-                c.samples.0,
-                c.samples.1,
-                c.bspline.max_deviation,
-                output.tolerance
-            );
+        let doc = CurveFile::from_output_with(&output, &ExportOptions { lcg: args.lcg });
+        for c in &output.curves {
+            let lac = c
+                .chain
+                .as_ref()
+                .map(|ch| (ch.within_tolerance, ch.max_deviation));
+            for (what, ok, deviation) in [
+                (
+                    "B-spline",
+                    c.bspline.within_tolerance,
+                    c.bspline.max_deviation,
+                ),
+                (
+                    "LAC chain",
+                    lac.is_none_or(|l| l.0),
+                    lac.map_or(0.0, |l| l.1),
+                ),
+            ] {
+                if !ok {
+                    eprintln!(
+                        "warning: {}: stroke {}, samples {}..={}: {what} deviates {deviation:.4} > tolerance {}",
+                        input.display(),
+                        c.stroke,
+                        c.samples.0,
+                        c.samples.1,
+                        output.tolerance
+                    );
+                }
+            }
+        }
+        if let Some(path) = &args.svg {
+            write_atomic(
+                &target(input, path, "svg"),
+                quick_look(&file, &output).as_bytes(),
+            )?;
         }
         match &args.json {
             None => {
@@ -183,20 +263,39 @@ fn fit(args: &FitArgs, out: &mut dyn std::io::Write) -> Result<(), CliError> {
                 })?;
             }
             Some(path) => {
-                let target = if several {
-                    let stem = input
-                        .file_stem()
-                        .map(|s| s.to_string_lossy())
-                        .unwrap_or_default();
-                    path.join(format!("{stem}.curve.json"))
-                } else {
-                    path.clone()
-                };
-                write_atomic(&target, doc.to_json().as_bytes())?;
+                write_atomic(&target(input, path, "curve.json"), doc.to_json().as_bytes())?;
             }
         }
     }
     Ok(())
+}
+
+/// The quick-look SVG of a fitted file.
+fn quick_look(file: &StrokeFile, output: &crate::pipeline::FitOutput) -> String {
+    let samples: Vec<Vec<crate::geom::Point>> = file.strokes.iter().map(|s| s.points()).collect();
+    let bsplines: Vec<Vec<crate::geom::ParamBez>> = output
+        .curves
+        .iter()
+        .map(|c| c.bspline.curve.to_beziers())
+        .collect();
+    let segments: Vec<crate::lac::LacSegment> = output
+        .curves
+        .iter()
+        .filter_map(|c| c.chain.as_ref())
+        .flat_map(|ch| ch.segments.iter().map(|s| s.segment))
+        .collect();
+    let splits: Vec<crate::geom::Point> = output
+        .curves
+        .iter()
+        .flat_map(|c| c.spans.splits.iter().map(|s| s.point))
+        .collect();
+    let layers = SvgLayers {
+        samples: &samples,
+        bsplines: &bsplines,
+        segments: &segments,
+        splits: &splits,
+    };
+    quick_look_svg(&layers, &SvgOptions::for_units(file.units))
 }
 
 /// Writes through a temporary file and a rename, so a reader never sees half a file.

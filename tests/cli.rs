@@ -33,8 +33,85 @@ fn fit_writes_a_kansei_curve_document() {
         assert_eq!(c.bspline.degree, 3);
         assert_eq!(c.bspline.knots.len(), c.bspline.control_points.len() + 4);
         assert!(c.bspline.max_deviation <= 0.5);
-        assert!(c.segments.is_empty());
+        let lac = c.lac.as_ref().expect("chain figures");
+        assert!(lac.within_tolerance && lac.max_deviation <= 0.5);
+        assert!(!c.segments.is_empty());
+        // Every record is a valid segment whose written end and end tangent follow from its
+        // parameters, and consecutive segments join G1.
+        let segments: Vec<_> = c
+            .segments
+            .iter()
+            .map(|s| s.segment().expect("valid record"))
+            .collect();
+        for w in segments.windows(2) {
+            assert!(w[0].end().distance(w[1].start()) <= 1e-9 * w[0].length().max(w[1].length()));
+        }
+        for s in &c.segments {
+            assert!(s.max_deviation <= 0.5);
+            assert!(s.samples[0] <= s.samples[1]);
+        }
     }
+    // The document round-trips exactly.
+    let again = kansei::export::CurveFile::from_json(&doc.to_json()).expect("reads back");
+    assert_eq!(again, doc);
+}
+
+#[test]
+fn alpha_can_be_fixed_or_limited_and_a_quick_look_svg_written() {
+    let dir = std::env::temp_dir().join(format!("kansei-cli-alpha-{}", std::process::id()));
+    let svg = dir.join("spring.svg");
+    let out = kansei()
+        .args([
+            "fit",
+            &fixture("perfect-freehand-waves"),
+            "--alpha",
+            "-1",
+            "--svg",
+        ])
+        .arg(&svg)
+        .output()
+        .expect("runs");
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let doc =
+        kansei::export::CurveFile::from_json(&String::from_utf8_lossy(&out.stdout)).expect("valid");
+    for s in doc.curves.iter().flat_map(|c| &c.segments) {
+        // Clothoids only (null α: a circular arc or line, which any α reproduces).
+        assert!(s.alpha.is_none_or(|a| a == -1.0), "alpha {:?}", s.alpha);
+    }
+    let text = std::fs::read_to_string(&svg).expect("svg written");
+    assert!(text.starts_with("<?xml") || text.starts_with("<svg"));
+    assert!(text.contains("id=\"lac\""));
+    let out = kansei()
+        .args([
+            "fit",
+            &fixture("perfect-freehand-waves"),
+            "--alpha-range=-0.5:0.5",
+        ])
+        .output()
+        .expect("runs");
+    assert!(out.status.success());
+    let doc =
+        kansei::export::CurveFile::from_json(&String::from_utf8_lossy(&out.stdout)).expect("valid");
+    for s in doc.curves.iter().flat_map(|c| &c.segments) {
+        assert!(
+            s.alpha.is_none_or(|a| (-0.5..=0.5).contains(&a)),
+            "alpha {:?}",
+            s.alpha
+        );
+    }
+    for bad in ["--alpha-range=1:x", "--alpha-range=2:1", "--alpha=nan"] {
+        let out = kansei()
+            .args(["fit", &fixture("perfect-freehand-waves"), bad])
+            .output()
+            .expect("runs");
+        assert!(!out.status.success(), "{bad} accepted");
+        assert!(!String::from_utf8_lossy(&out.stderr).contains("panicked"));
+    }
+    let _ = std::fs::remove_dir_all(dir);
 }
 
 #[test]

@@ -164,3 +164,36 @@ fn every_fixture_chain_is_g1_and_within_tolerance() {
         }
     }
 }
+
+#[test]
+fn the_logarithmic_curvature_graphs_are_in_the_json_on_request() {
+    use kansei::export::{CurveFile, ExportOptions};
+    let planted = planted_segment(0.5, 100.0, 5.0, 100f64.to_radians());
+    let stroke = pen_stroke(&planted, 300, 0, 0.0, 1);
+    let file = kansei::stroke::StrokeFile::new(kansei::stroke::Units::Mm, vec![stroke]);
+    let out = fit_file(&file, &PipelineOptions::default()).expect("fit");
+    let plain = CurveFile::from_output(&out);
+    assert!(plain.curves[0].segments.iter().all(|s| s.lcg.is_none()));
+    let doc = CurveFile::from_output_with(&out, &ExportOptions { lcg: true });
+    let seg = &doc.curves[0].segments[0];
+    let lcg = seg.lcg.as_ref().expect("asked for");
+    let alpha = seg.alpha.expect("a spiral");
+    // The segment's graph is the straight line of slope α.
+    for w in lcg.lac.windows(2) {
+        let slope = (w[1][1] - w[0][1]) / (w[1][0] - w[0][0]);
+        assert!(
+            (slope - alpha).abs() < 1e-6,
+            "slope {slope} vs alpha {alpha}"
+        );
+    }
+    // The B-spline's graph is reported as it is: it rests on dκ/ds, a third derivative of a
+    // least-squares spline, and is far noisier than the samples (here its slope is off by
+    // more than 0.5 on noise-free data), which is why α is fitted to the samples instead.
+    assert!(!lcg.bspline.is_empty());
+    assert!(
+        lcg.bspline
+            .iter()
+            .all(|p| p[0].is_finite() && p[1].is_finite())
+    );
+    assert!(lcg.bspline_slope.is_some_and(f64::is_finite));
+}

@@ -1,4 +1,4 @@
-use serde::Serialize;
+use serde::{Deserialize, Serialize};
 
 use super::refine::{RefineOptions, refine};
 use super::state::{Joint, State};
@@ -49,7 +49,7 @@ impl Default for ChainOptions {
 }
 
 /// What a joint between segments (or an end of the chain) is.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(rename_all = "snake_case")]
 pub enum JointKind {
     /// The start of the piece.
@@ -95,6 +95,9 @@ pub struct ChainSegment {
     pub start: JointKind,
     /// What its end joint is.
     pub end: JointKind,
+    /// The B-spline parameter interval its samples' foot points span (`None` without samples):
+    /// where to compare it with the B-spline.
+    pub params: Option<(f64, f64)>,
 }
 
 /// The chain of one piece.
@@ -543,6 +546,12 @@ impl<'a> Fitter<'a> {
                 .iter()
                 .map(|&i| self.input.indices[i])
                 .collect();
+            let params = state.samples[k].iter().map(|&i| self.input.params[i]).fold(
+                None,
+                |acc: Option<(f64, f64)>, u| {
+                    Some(acc.map_or((u, u), |(lo, hi)| (lo.min(u), hi.max(u))))
+                },
+            );
             let first = if k == 0 {
                 self.input.samples.0
             } else {
@@ -562,6 +571,7 @@ impl<'a> Fitter<'a> {
                 search,
                 start: state.joints[k].kind,
                 end: state.joints[k + 1].kind,
+                params,
             });
         }
         let max_deviation = segments.iter().map(|s| s.max_deviation).fold(0.0, f64::max);

@@ -4,15 +4,27 @@
 //! {"format": "kansei-curve", "version": 1, "units": "mm", "tolerance": 0.05,
 //!  "curves": [{"stroke": 0, "samples": [0, 311],
 //!     "bspline": {"degree": 3, "knots": [], "control_points": [[0.0, 0.0]],
-//!                 "max_deviation": 0.031, "rms_deviation": 0.01, "within_tolerance": true},
+//!                 "max_deviation": 0.031, "rms_deviation": 0.01, "within_tolerance": true,
+//!                 "fairing": 1e-9},
 //!     "splits": [{"kind": "inflection", "point": [1.0, 2.0], "t": 0.42, "curvature": 0.0}],
-//!     "segments": []}]}
+//!     "lac": {"max_deviation": 0.04, "within_tolerance": true, "refined": true},
+//!     "segments": [{"start": [0.0, 0.0], "theta0": 0.1, "length": 12.5, "alpha": -1.02,
+//!                   "kappa0": 0.08, "kappa1": 0.01, "end": [12.1, 2.3], "theta1": 0.52,
+//!                   "samples": [0, 120], "max_deviation": 0.04, "rms_deviation": 0.015,
+//!                   "start_joint": "start", "end_joint": "curvature_extremum",
+//!                   "alpha_search": {"range": [-3.0, 3.0], "alpha": -1.01, "rms": 0.015,
+//!                                    "evaluations": 24, "grid": [[-3.0, 0.2]]}}]}]}
 //! ```
 //! Numbers are written with serde_json's shortest round-trip formatting, so reading a file back
 //! gives bit-identical values.
 
 use serde::{Deserialize, Serialize};
 
+use crate::chain::{Chain, ChainSegment};
+use crate::geom::{ParamBez, ParamCurve};
+use crate::lac::{
+    LacError, LacSegment, LacSegmentRecord, lcg_of_bezier_span, lcg_of_segment, lcg_slope,
+};
 use crate::pipeline::{CurveFit, FitOutput};
 use crate::split::SplitKind;
 use crate::stroke::Units;
@@ -21,6 +33,9 @@ use crate::stroke::Units;
 pub const CURVE_FORMAT_NAME: &str = "kansei-curve";
 /// The `kansei-curve` version written by this library.
 pub const CURVE_FORMAT_VERSION: u64 = 1;
+
+/// Points per logarithmic curvature graph written with `--lcg`.
+pub const LCG_POINTS: usize = 32;
 
 /// A `kansei-curve` document.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
@@ -50,9 +65,12 @@ pub struct CurveEntry {
     /// Split points in order: `start` (or `corner`), inflections and curvature extrema, `end`
     /// (or `corner`).
     pub splits: Vec<SplitRecord>,
-    /// Log-aesthetic curve segments, one per span between consecutive splits (filled by the LAC
-    /// stage; empty until then).
-    pub segments: Vec<serde_json::Value>,
+    /// How the log-aesthetic chain fits (absent when the LAC stage did not run).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub lac: Option<ChainRecord>,
+    /// The log-aesthetic chain's segments, in order; consecutive segments share end point and
+    /// tangent (G1). Empty when the LAC stage did not run.
+    pub segments: Vec<SegmentRecord>,
 }
 
 /// A clamped cubic B-spline and its fit figures.
@@ -88,15 +106,129 @@ pub struct SplitRecord {
     pub curvature: f64,
 }
 
+/// The chain's figures.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct ChainRecord {
+    /// Largest distance from a sample to its segment.
+    pub max_deviation: f64,
+    /// Whether that is within the tolerance.
+    pub within_tolerance: bool,
+    /// Whether joints and α were refined by Levenberg–Marquardt.
+    pub refined: bool,
+}
+
+/// One log-aesthetic segment: the canonical record (`start` … `theta1`) and its fit.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct SegmentRecord {
+    /// Start point [x, y].
+    pub start: [f64; 2],
+    /// Tangent angle at the start (radians).
+    pub theta0: f64,
+    /// Arc length.
+    pub length: f64,
+    /// Slope of the logarithmic curvature graph; null for a circular arc or a line.
+    pub alpha: Option<f64>,
+    /// Signed curvature at the start.
+    pub kappa0: f64,
+    /// Signed curvature at the end.
+    pub kappa1: f64,
+    /// End point [x, y] (follows from the parameters).
+    pub end: [f64; 2],
+    /// Tangent angle at the end (follows from the parameters).
+    pub theta1: f64,
+    /// Inclusive range of the stroke's sample indices the segment represents.
+    pub samples: [usize; 2],
+    /// Largest distance from those samples to the segment.
+    pub max_deviation: f64,
+    /// Root mean square of those distances.
+    pub rms_deviation: f64,
+    /// What the segment's start joint is (`start`, `corner`, `inflection`,
+    /// `curvature_extremum`, `subdivision`).
+    pub start_joint: crate::chain::JointKind,
+    /// What its end joint is.
+    pub end_joint: crate::chain::JointKind,
+    /// The α search that started the segment (refinement may have moved α since).
+    pub alpha_search: crate::lac::AlphaSearch,
+    /// The logarithmic curvature graphs, when asked for.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub lcg: Option<LcgRecord>,
+}
+
+/// The logarithmic curvature graphs of a segment and of the B-spline over its samples: points
+/// `[log ρ, log(ρ·ds/dρ)]`; the LAC's lie on a line of slope α.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct LcgRecord {
+    /// The segment's graph (empty for an arc or a line).
+    pub lac: Vec<[f64; 2]>,
+    /// The B-spline's graph over the segment's samples.
+    pub bspline: Vec<[f64; 2]>,
+    /// Least-squares slope of the B-spline's graph (the B-spline's "α").
+    pub bspline_slope: Option<f64>,
+}
+
+impl SegmentRecord {
+    /// The segment the record describes (validated; `end`/`theta1` checked to 1e-9).
+    pub fn segment(&self) -> Result<LacSegment, LacError> {
+        LacSegment::try_from(LacSegmentRecord {
+            start: self.start,
+            theta0: self.theta0,
+            length: self.length,
+            alpha: self.alpha,
+            kappa0: self.kappa0,
+            kappa1: self.kappa1,
+            end: Some(self.end),
+            theta1: Some(self.theta1),
+        })
+    }
+
+    fn from_chain(seg: &ChainSegment, lcg: Option<LcgRecord>) -> Self {
+        let r = LacSegmentRecord::from(seg.segment);
+        let end = r.end.unwrap_or([seg.segment.end().x, seg.segment.end().y]);
+        SegmentRecord {
+            start: r.start,
+            theta0: r.theta0,
+            length: r.length,
+            alpha: r.alpha,
+            kappa0: r.kappa0,
+            kappa1: r.kappa1,
+            end,
+            theta1: r.theta1.unwrap_or(seg.segment.theta1()),
+            samples: [seg.samples.0, seg.samples.1],
+            max_deviation: seg.max_deviation,
+            rms_deviation: seg.rms_deviation,
+            start_joint: seg.start,
+            end_joint: seg.end,
+            alpha_search: seg.search.clone(),
+            lcg,
+        }
+    }
+}
+
+/// What to include beyond the curves themselves.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct ExportOptions {
+    /// Include each segment's logarithmic curvature graphs. Default false.
+    pub lcg: bool,
+}
+
 impl CurveFile {
     /// The document for a pipeline result.
     pub fn from_output(output: &FitOutput) -> Self {
+        Self::from_output_with(output, &ExportOptions::default())
+    }
+
+    /// The document for a pipeline result, with extras.
+    pub fn from_output_with(output: &FitOutput, options: &ExportOptions) -> Self {
         CurveFile {
             format: CURVE_FORMAT_NAME.to_owned(),
             version: CURVE_FORMAT_VERSION,
             units: output.units,
             tolerance: output.tolerance,
-            curves: output.curves.iter().map(CurveEntry::from_fit).collect(),
+            curves: output
+                .curves
+                .iter()
+                .map(|c| CurveEntry::from_fit_with(c, options))
+                .collect(),
         }
     }
 
@@ -122,7 +254,32 @@ impl CurveFile {
 impl CurveEntry {
     /// The entry for one fitted piece.
     pub fn from_fit(fit: &CurveFit) -> Self {
+        Self::from_fit_with(fit, &ExportOptions::default())
+    }
+
+    /// The entry for one fitted piece, with extras.
+    pub fn from_fit_with(fit: &CurveFit, options: &ExportOptions) -> Self {
         let b = &fit.bspline;
+        let beziers = b.curve.to_beziers();
+        let lcg = |seg: &ChainSegment| -> Option<LcgRecord> {
+            if !options.lcg {
+                return None;
+            }
+            let to_pairs = |v: Vec<crate::lac::LcgPoint>| -> Vec<[f64; 2]> {
+                v.iter().map(|p| [p.log_rho, p.log_rho_ds_drho]).collect()
+            };
+            let span = seg
+                .params
+                .map(|(u0, u1)| pieces_between(&beziers, u0, u1))
+                .unwrap_or_default();
+            let bspline = lcg_of_bezier_span(&span, LCG_POINTS);
+            Some(LcgRecord {
+                lac: to_pairs(lcg_of_segment(&seg.segment, LCG_POINTS)),
+                bspline_slope: lcg_slope(&bspline),
+                bspline: to_pairs(bspline),
+            })
+        };
+        let chain: Option<&Chain> = fit.chain.as_ref();
         CurveEntry {
             stroke: fit.stroke,
             samples: [fit.samples.0, fit.samples.1],
@@ -151,7 +308,36 @@ impl CurveEntry {
                     curvature: s.curvature,
                 })
                 .collect(),
-            segments: Vec::new(),
+            lac: chain.map(|c| ChainRecord {
+                max_deviation: c.max_deviation,
+                within_tolerance: c.within_tolerance,
+                refined: c.refined,
+            }),
+            segments: chain
+                .map(|c| {
+                    c.segments
+                        .iter()
+                        .map(|s| SegmentRecord::from_chain(s, lcg(s)))
+                        .collect()
+                })
+                .unwrap_or_default(),
         }
     }
+}
+
+/// The parts of a chain of Bézier pieces between global parameters `u0 < u1`.
+pub fn pieces_between(pieces: &[ParamBez], u0: f64, u1: f64) -> Vec<ParamBez> {
+    pieces
+        .iter()
+        .filter(|p| p.u1 > u0 && p.u0 < u1)
+        .map(|p| {
+            let (t0, t1) = (p.local(u0.max(p.u0)), p.local(u1.min(p.u1)));
+            ParamBez {
+                bez: p.bez.subsegment(t0..t1),
+                u0: u0.max(p.u0),
+                u1: u1.min(p.u1),
+            }
+        })
+        .filter(|p| p.u1 > p.u0)
+        .collect()
 }

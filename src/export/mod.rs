@@ -5,7 +5,8 @@ mod curve_json;
 mod svg;
 
 pub use curve_json::{
-    BSplineRecord, CURVE_FORMAT_NAME, CURVE_FORMAT_VERSION, CurveEntry, CurveFile, SplitRecord,
+    BSplineRecord, CURVE_FORMAT_NAME, CURVE_FORMAT_VERSION, ChainRecord, CurveEntry, CurveFile,
+    ExportOptions, LCG_POINTS, LcgRecord, SegmentRecord, SplitRecord, pieces_between,
 };
 pub use svg::{
     ALPHA_BLUE_END, ALPHA_BLUE_RGB, ALPHA_RED_END, ALPHA_RED_RGB, ALPHA_ZERO_RGB,

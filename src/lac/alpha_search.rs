@@ -8,7 +8,7 @@
 //! then Brent's method ([`super::minimize::brent`]) minimises continuously on the two cells around
 //! it to [`ALPHA_TOLERANCE`]. This replaces the seed paper's choice among a few fixed α values.
 
-use serde::Serialize;
+use serde::{Deserialize, Serialize};
 
 use super::deviation::{Deviation, deviation, rough_deviation};
 use super::error::LacError;
@@ -74,7 +74,7 @@ impl AlphaChoice {
 }
 
 /// What the α search did, for the output and the app's α-search plot.
-#[derive(Clone, Debug, Default, PartialEq, Serialize)]
+#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
 pub struct AlphaSearch {
     /// The range searched (both ends equal for a fixed α).
     pub range: [f64; 2],
