@@ -13,6 +13,7 @@
 //! an inflection (a log-aesthetic segment has one curvature sign) or a corner (not in a piece).
 //! Fewer segments are better, as the seed paper's future work asks.
 
+mod band;
 mod fit;
 mod refine;
 mod state;

@@ -8,9 +8,13 @@
 //! minimised: x ← x − (JᵀJ + λ·diag(JᵀJ))⁻¹ Jᵀr, with J by forward differences (a joint moves
 //! only its two segments, an α only its own) and λ adapted (Marquardt 1963). A step is taken only
 //! when it lowers the cost, so the result is never worse than the start.
+//!
+//! With the unknowns ordered joint₀, α₀, joint₁, α₁, …, a segment's residuals depend on one
+//! contiguous block of at most 7 unknowns, so JᵀJ is a band matrix of half-bandwidth ≤ 6: it is
+//! assembled block by block and solved by a band Cholesky ([`super::band`]), O(K) per iteration
+//! for K segments instead of the O(K³) of a dense solve.
 
-use nalgebra::{DMatrix, DVector};
-
+use super::band::Band;
 use super::state::{Evaluated, State, cost};
 
 /// Options of [`refine`].
@@ -51,19 +55,40 @@ enum Unknown {
     Alpha(usize),
 }
 
-fn unknowns(state: &State<'_>, options: &RefineOptions) -> Vec<Unknown> {
+/// The unknowns in band order (joint₀, α₀, joint₁, α₁, …) and, for each segment, the
+/// contiguous range of unknown indices its residuals depend on.
+fn unknowns(
+    state: &State<'_>,
+    options: &RefineOptions,
+) -> (Vec<Unknown>, Vec<std::ops::Range<usize>>) {
     let mut out = Vec::new();
+    let mut joint_start = Vec::with_capacity(state.joints.len() + 1);
     for (j, joint) in state.joints.iter().enumerate() {
+        joint_start.push(out.len());
         if !joint.fixed {
             out.push(Unknown::X(j));
             out.push(Unknown::Y(j));
         }
         out.push(Unknown::Angle(j));
+        if options.alpha_range.is_some() && j < state.len() {
+            out.push(Unknown::Alpha(j));
+        }
     }
-    if options.alpha_range.is_some() {
-        out.extend((0..state.len()).map(Unknown::Alpha));
-    }
-    out
+    joint_start.push(out.len());
+    // Segment k: from joint k's first unknown to joint k+1's last (its α lies in between).
+    let ranges = (0..state.len())
+        .map(|k| {
+            let end = joint_start[k + 2].min(out.len());
+            // Joint k+1's own unknowns end before α_{k+1}.
+            let end = if options.alpha_range.is_some() && k + 1 < state.len() {
+                end - 1
+            } else {
+                end
+            };
+            joint_start[k]..end
+        })
+        .collect();
+    (out, ranges)
 }
 
 /// The segments an unknown moves.
@@ -103,26 +128,20 @@ fn step_of(unknown: Unknown, options: &RefineOptions) -> f64 {
 pub(crate) fn refine(state: &mut State<'_>, options: &RefineOptions) -> Option<Vec<Evaluated>> {
     let mut current = state.evaluate_all(options.chord_error).ok()?;
     let mut current_cost = cost(&current);
-    let unknowns = unknowns(state, options);
+    let (unknowns, ranges) = unknowns(state, options);
     if unknowns.is_empty() || current_cost == 0.0 {
         return Some(current);
     }
-    // Row offset of each segment's residuals.
-    let offsets: Vec<usize> = current
-        .iter()
-        .scan(0, |acc, e| {
-            let start = *acc;
-            *acc += e.residuals.len();
-            Some(start)
-        })
-        .collect();
-    let rows = offsets
-        .last()
-        .map_or(0, |&o| o + current.last().map_or(0, |e| e.residuals.len()));
+    let width = ranges.iter().map(|r| r.len()).max().unwrap_or(1);
     let mut lambda = LAMBDA_START;
     for _ in 0..options.max_iterations {
-        // Jacobian by forward differences, segment-local.
-        let mut jac = DMatrix::<f64>::zeros(rows, unknowns.len());
+        // Jacobian by forward differences, one dense block per segment (rows: its samples,
+        // columns: its range of unknowns).
+        let mut blocks: Vec<Vec<f64>> = current
+            .iter()
+            .zip(&ranges)
+            .map(|(e, r)| vec![0.0; e.residuals.len() * r.len()])
+            .collect();
         for (c, &u) in unknowns.iter().enumerate() {
             let h = step_of(u, options);
             let mut probe = state.clone();
@@ -131,29 +150,41 @@ pub(crate) fn refine(state: &mut State<'_>, options: &RefineOptions) -> Option<V
                 let Ok(e) = probe.evaluate(k, options.chord_error) else {
                     continue;
                 };
+                let (cols, col) = (ranges[k].len(), c - ranges[k].start);
                 for (i, (r1, r0)) in e.residuals.iter().zip(&current[k].residuals).enumerate() {
-                    jac[(offsets[k] + i, c)] = (r1 - r0) / h;
+                    blocks[k][i * cols + col] = (r1 - r0) / h;
                 }
             }
         }
-        let r = DVector::from_iterator(
-            rows,
-            current.iter().flat_map(|e| e.residuals.iter().copied()),
-        );
-        let jtj = jac.transpose() * &jac;
-        let jtr = jac.transpose() * &r;
+        // JᵀJ (band) and Jᵀr, block by block.
+        let mut jtj = Band::zeros(unknowns.len(), width.saturating_sub(1));
+        let mut jtr = vec![0.0; unknowns.len()];
+        for ((block, range), e) in blocks.iter().zip(&ranges).zip(&current) {
+            let cols = range.len();
+            for (i, r) in e.residuals.iter().enumerate() {
+                let row = &block[i * cols..(i + 1) * cols];
+                for a in 0..cols {
+                    if row[a] == 0.0 {
+                        continue;
+                    }
+                    jtr[range.start + a] += row[a] * r;
+                    for b in 0..=a {
+                        jtj.add(range.start + a, range.start + b, row[a] * row[b]);
+                    }
+                }
+            }
+        }
         let mut improved = false;
         while lambda < LAMBDA_MAX {
             let mut a = jtj.clone();
-            for i in 0..a.nrows() {
+            for i in 0..a.n() {
                 // Marquardt's scaling, with a floor for unknowns the data barely see.
-                a[(i, i)] += lambda * jtj[(i, i)].max(f64::MIN_POSITIVE.sqrt());
+                a.add(i, i, lambda * jtj.get(i, i).max(f64::MIN_POSITIVE.sqrt()));
             }
-            let Some(chol) = a.cholesky() else {
+            let Some(delta) = a.solve(&jtr) else {
                 lambda *= 10.0;
                 continue;
             };
-            let delta = chol.solve(&jtr);
             let mut trial = state.clone();
             for (c, &u) in unknowns.iter().enumerate() {
                 add(&mut trial, u, -delta[c], options);
