@@ -12,6 +12,12 @@ use crate::split::{Spans, SplitKind};
 /// polished to exact foot points; the α search ranks candidates at ten times it.
 const CHORD_ERROR_FRACTION: f64 = 1e-3;
 
+/// Smallest radius of curvature a segment may have, as a fraction of the tolerance: a curve
+/// bending within a hundredth of the tolerance turns inside a disc the samples cannot resolve
+/// (a corner, not a curve), and such radii (seen: 4e-12 px at the drawable region's edge) also
+/// take the segment's evaluation past the accuracy its record promises.
+const MIN_RADIUS_FRACTION: f64 = 1e-2;
+
 /// A span holding fewer samples than this is fitted against points of its B-spline instead
 /// (evenly spaced in the parameter): with one or two samples the α search has nothing to choose
 /// by, and a short span's shape is the B-spline's anyway.
@@ -200,6 +206,8 @@ struct Fitter<'a> {
     order: Vec<usize>,
     tolerance: f64,
     chord_error: f64,
+    /// Largest curvature a segment may have (see [`MIN_RADIUS_FRACTION`]).
+    max_curvature: f64,
     options: &'a ChainOptions,
 }
 
@@ -213,6 +221,7 @@ impl<'a> Fitter<'a> {
             order,
             tolerance,
             chord_error: CHORD_ERROR_FRACTION * tolerance,
+            max_curvature: 1.0 / (MIN_RADIUS_FRACTION * tolerance),
             options,
         }
     }
@@ -281,6 +290,7 @@ impl<'a> Fitter<'a> {
             &points,
             self.options.alpha,
             self.chord_error,
+            self.max_curvature,
         )?;
         // Arcs and lines have no α: any value reproduces them; keep the range's middle.
         let alpha = fit.segment.alpha().unwrap_or(match self.options.alpha {
@@ -346,6 +356,7 @@ impl<'a> Fitter<'a> {
                 joints,
                 alphas,
                 samples,
+                max_curvature: self.max_curvature,
             },
             searches,
         ))
@@ -453,6 +464,7 @@ impl<'a> Fitter<'a> {
                 &reference,
                 self.options.alpha,
                 self.chord_error,
+                self.max_curvature,
             ) {
                 state.alphas[k] = fit.segment.alpha().unwrap_or(middle);
                 searches[k] = fit.search;

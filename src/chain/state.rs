@@ -2,7 +2,7 @@
 //! is the Yoshida–Saito segment of its two joints ([`fit_g1`]), so any state is G1.
 
 use crate::geom::{Point, Vec2};
-use crate::lac::{LacError, LacSegment, deviation, fit_g1};
+use crate::lac::{LacError, LacSegment, deviation, fit_g1, within};
 
 use super::JointKind;
 
@@ -38,6 +38,8 @@ pub(crate) struct State<'a> {
     /// For each segment, the indices (into `points`, ordered along the curve) of the samples it
     /// is measured against.
     pub samples: Vec<Vec<usize>>,
+    /// Segments curving more than this are not allowed (see the chain's minimum radius).
+    pub max_curvature: f64,
 }
 
 /// Signed distances of a segment's samples (the LM residuals).
@@ -58,7 +60,14 @@ impl State<'_> {
     /// Segment `k` of the state.
     pub fn segment(&self, k: usize) -> Result<LacSegment, LacError> {
         let (a, b) = (self.joints[k], self.joints[k + 1]);
-        fit_g1(a.p, a.tangent(), b.p, b.tangent(), self.alphas[k])
+        let segment = fit_g1(a.p, a.tangent(), b.p, b.tangent(), self.alphas[k])?;
+        if within(&segment, self.max_curvature) {
+            Ok(segment)
+        } else {
+            Err(LacError::CurvatureTooHigh {
+                limit: self.max_curvature,
+            })
+        }
     }
 
     /// Segment `k` and its samples' signed distances (exact foot points; `chord_error` only sets

@@ -100,7 +100,9 @@ pub struct SpanFit {
 }
 
 /// Fits the best LAC segment (see the module doc) through `a` (tangent `ta`) and `b` (tangent
-/// `tb`) to `samples`, ordered from `a` to `b`. Distances are exact to `chord_error`.
+/// `tb`) to `samples`, ordered from `a` to `b`. Distances are exact to `chord_error`. Segments
+/// whose curvature anywhere exceeds `max_curvature` in magnitude count as infeasible (pass
+/// `f64::INFINITY` for no limit).
 pub fn fit_span(
     a: Point,
     ta: Vec2,
@@ -109,6 +111,7 @@ pub fn fit_span(
     samples: &[Point],
     choice: AlphaChoice,
     chord_error: f64,
+    max_curvature: f64,
 ) -> Result<SpanFit, LacError> {
     choice.validate()?;
     let (min, max) = match choice {
@@ -119,7 +122,9 @@ pub fn fit_span(
     let search_chord = SEARCH_CHORD_FACTOR * chord_error;
     let mut evaluate = |alpha: f64| -> Option<(LacSegment, Deviation)> {
         evaluations += 1;
-        let segment = fit_g1(a, ta, b, tb, alpha).ok()?;
+        let segment = fit_g1(a, ta, b, tb, alpha)
+            .ok()
+            .filter(|s| within(s, max_curvature))?;
         let d = rough_deviation(&segment, samples, search_chord);
         Some((segment, d))
     };
@@ -178,10 +183,11 @@ pub fn fit_span(
         grid_best
     };
     let (segment, deviation) = match fit_g1(a, ta, b, tb, alpha) {
-        Ok(segment) => {
+        Ok(segment) if within(&segment, max_curvature) => {
             let d = deviation(&segment, samples, chord_error);
             (segment, d)
         }
+        Ok(_) => return Err(LacError::NoAlphaInRange { min, max }),
         Err(e) => return Err(e),
     };
     let search = AlphaSearch {
@@ -196,4 +202,10 @@ pub fn fit_span(
         deviation,
         search,
     })
+}
+
+/// Whether the segment's curvature stays within `max_curvature` (curvature is monotonic, so the
+/// ends bound it).
+pub fn within(segment: &LacSegment, max_curvature: f64) -> bool {
+    segment.kappa0().abs().max(segment.kappa1().abs()) <= max_curvature
 }

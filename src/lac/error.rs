@@ -102,4 +102,10 @@ pub enum LacError {
         /// Largest α asked for.
         max: f64,
     },
+    /// A segment curving more sharply than the caller allows.
+    #[error("the segment's curvature exceeds the allowed {limit}")]
+    CurvatureTooHigh {
+        /// The largest curvature allowed.
+        limit: f64,
+    },
 }
