@@ -134,29 +134,41 @@ fn point_near(segment: &LacSegment, polyline: &[(f64, Point)], s: f64) -> Point 
 
 /// The segment as `(arc length, point)` vertices with chord error at most `chord_error`; the last
 /// vertex is the segment's exact end.
+///
+/// The step follows the local curvature, h = √(8·e/|κ|), with κ the larger of its two ends'
+/// (curvature is monotonic, so that bounds it over the step): a segment whose curvature is high
+/// only near one end gets dense vertices only there. The count is about ∫√(|κ|/8e) ds, not
+/// L·√(κ_max/8e).
 pub fn trace(segment: &LacSegment, chord_error: f64) -> Vec<(f64, Point)> {
     let length = segment.length();
-    let kappa_max = segment.kappa0().abs().max(segment.kappa1().abs());
-    let mut spacing = if kappa_max > 0.0 && chord_error > 0.0 {
-        (8.0 * chord_error / kappa_max).sqrt()
-    } else {
-        length
+    let min_step = length / MAX_VERTICES as f64;
+    let step_for = |kappa: f64| -> f64 {
+        if kappa > 0.0 && chord_error > 0.0 {
+            (8.0 * chord_error / kappa).sqrt().max(min_step)
+        } else {
+            length
+        }
     };
-    spacing = spacing.max(length / MAX_VERTICES as f64);
-    let steps = ((length / spacing).ceil() as usize).max(1);
-    let h = length / steps as f64;
-    let mut out = Vec::with_capacity(steps + 1);
+    let mut out = Vec::new();
+    let mut s0 = 0.0;
     let mut p = segment.start();
     out.push((0.0, p));
-    for i in 0..steps {
-        let s0 = i as f64 * h;
+    while s0 < length {
+        let mut h = step_for(segment.kappa(s0).abs()).min(length - s0);
+        let far = segment.kappa(s0 + h).abs();
+        h = h.min(step_for(far)).min(length - s0);
+        // Land exactly on the end rather than leave a sliver step.
+        if length - (s0 + h) < 0.25 * h {
+            h = length - s0;
+        }
         let mut step = Vec2::ZERO;
         for &(w, x) in GAUSS_3 {
             let theta = segment.theta(s0 + 0.5 * h * (1.0 + x));
             step += Vec2::new(theta.cos(), theta.sin()) * (0.5 * h * w);
         }
         p += step;
-        out.push((s0 + h, p));
+        s0 += h;
+        out.push((s0, p));
     }
     if let Some(last) = out.last_mut() {
         *last = (length, segment.end());
@@ -196,7 +208,6 @@ fn project_raw(polyline: &[(f64, Point)], samples: &[Point]) -> Deviation {
         }
         return out;
     }
-    let spacing = polyline[1].0 - polyline[0].0;
     let mut start = 0usize;
     for q in samples {
         // Samples can step back a little (noise): begin a couple of vertices behind.
@@ -209,7 +220,7 @@ fn project_raw(polyline: &[(f64, Point)], samples: &[Point]) -> Deviation {
             if d < best.0 {
                 best = (d, s0 + f * (s1 - s0), k, (b - a).cross(*q - a).signum());
             }
-            if q.distance(a) > 2.0 * best.0 + LOOKAHEAD_SPACINGS * spacing {
+            if q.distance(a) > 2.0 * best.0 + LOOKAHEAD_SPACINGS * (s1 - s0) {
                 break;
             }
             k += 1;
