@@ -41,6 +41,12 @@ const ALPHA_STEP: f64 = 1e-6;
 const LAMBDA_START: f64 = 1e-3;
 /// Damping beyond which no step can help any more (the step has shrunk to rounding).
 const LAMBDA_MAX: f64 = 1e12;
+/// Damping growth after a rejected step: ×10 reaches a short, safe step within a few trials
+/// (each trial re-evaluates the whole chain).
+const LAMBDA_GROWTH: f64 = 10.0;
+/// Rejected trials per iteration before the refinement stops: after eight the step is 1e-8 of
+/// the Gauss–Newton one, and no useful descent is left.
+const MAX_TRIES: usize = 8;
 /// Relative cost decrease below which the iteration has converged: a hundredth of a percent of
 /// the sum of squared distances moves the rms distance by 0.005 %, invisible against any
 /// tolerance; iterating on costs time for nothing (the planted-α tests hold their 0.05).
@@ -175,7 +181,9 @@ pub(crate) fn refine(state: &mut State<'_>, options: &RefineOptions) -> Option<V
             }
         }
         let mut improved = false;
-        while lambda < LAMBDA_MAX {
+        let mut tries = 0;
+        while lambda < LAMBDA_MAX && tries < MAX_TRIES {
+            tries += 1;
             let mut a = jtj.clone();
             for i in 0..a.n() {
                 // Marquardt's scaling, with a floor for unknowns the data barely see.
@@ -200,7 +208,7 @@ pub(crate) fn refine(state: &mut State<'_>, options: &RefineOptions) -> Option<V
                     improved = decrease > CONVERGED;
                     break;
                 }
-                _ => lambda *= 4.0,
+                _ => lambda *= LAMBDA_GROWTH,
             }
         }
         if !improved {
