@@ -192,8 +192,12 @@ pub fn fit_chain(
             fitter.refine_guarded(&mut state, &refine_options);
         }
     }
-    if options.merge && fitter.merge(&mut state, &mut searches) && options.refine {
-        fitter.refine_guarded(&mut state, &refine_options);
+    if options.merge {
+        let straightened = fitter.straighten(&mut state, &mut searches);
+        let merged = fitter.merge(&mut state, &mut searches);
+        if (straightened || merged) && options.refine {
+            fitter.refine_guarded(&mut state, &refine_options);
+        }
     }
     fitter.finish(&state, searches)
 }
@@ -504,15 +508,82 @@ impl<'a> Fitter<'a> {
         Ok(())
     }
 
-    /// Removes joints at curvature extrema and subdivisions where one segment covers both
-    /// neighbours within the tolerance. Returns whether any was removed.
+    /// Replaces runs of segments by one straight segment where a line between the run's outer
+    /// joints holds all its samples within the tolerance: noise on a near-straight stretch flips
+    /// the curvature's sign again and again, and no log-aesthetic segment can cross an
+    /// inflection, but a line absorbs them all. From each joint the run is extended as far as the
+    /// chord holds the samples (a cheap point-to-segment test); the run's outer joints then turn
+    /// their tangents to the chord, so the chain stays G1, and the segments beyond them, rebuilt
+    /// with the turned tangents, must stay within the tolerance too. Returns whether any run was
+    /// straightened.
+    fn straighten(&self, state: &mut State<'a>, searches: &mut Vec<AlphaSearch>) -> bool {
+        let near_chord = |a: Point, b: Point, samples: &[usize]| {
+            samples.iter().all(|&i| {
+                let q = self.input.points[i];
+                let ab = b - a;
+                let f = ((q - a).dot(ab) / ab.hypot2()).clamp(0.0, 1.0);
+                q.distance(a + ab * f) <= self.tolerance
+            })
+        };
+        let mut changed = false;
+        let mut i = 0;
+        while i + 1 < state.len() {
+            // The longest run i..k (k ≥ i + 2 joints apart) that the chord holds.
+            let mut k = i + 1;
+            let mut held: Vec<usize> = state.samples[i].clone();
+            while k < state.len() {
+                let mut extended = held.clone();
+                extended.extend(&state.samples[k]);
+                let (a, b) = (state.joints[i].p, state.joints[k + 1].p);
+                if b.distance(a) == 0.0 || !near_chord(a, b, &extended) {
+                    break;
+                }
+                held = extended;
+                k += 1;
+            }
+            // Joints i and k now bound the run of segments i..k (k − i segments).
+            if k - i < 2 {
+                i += 1;
+                continue;
+            }
+            let chord = state.joints[k].p - state.joints[i].p;
+            let angle = chord.y.atan2(chord.x);
+            let mut trial = state.clone();
+            trial.joints[i].angle = angle;
+            trial.joints[k].angle = angle;
+            trial.joints.drain(i + 1..k);
+            let alpha = trial.alphas[i];
+            trial.alphas.splice(i..k, [alpha]);
+            trial.samples.splice(i..k, [held]);
+            let affected = i.saturating_sub(1)..(i + 2).min(trial.len());
+            let fits = affected.clone().all(
+                |m| matches!(trial.evaluate(m, self.chord_error), Ok(e) if e.max <= self.tolerance),
+            );
+            if fits {
+                *state = trial;
+                let line = AlphaSearch {
+                    alpha: None,
+                    ..AlphaSearch::default()
+                };
+                searches.splice(i..k, [line]);
+                changed = true;
+            }
+            i += 1;
+        }
+        changed
+    }
+
+    /// Removes joints at curvature extrema, subdivisions and inflections where one segment covers
+    /// both neighbours' samples within the tolerance. The data decide: a B-spline inflection
+    /// that one single-signed segment can absorb was noise (near-straight stretches flip the
+    /// sign again and again), and a real one cannot be absorbed. Returns whether any was removed.
     fn merge(&self, state: &mut State<'a>, searches: &mut Vec<AlphaSearch>) -> bool {
         let mut merged = false;
         let mut j = 1;
         while j + 1 < state.joints.len() {
             let mergeable = matches!(
                 state.joints[j].kind,
-                JointKind::CurvatureExtremum | JointKind::Subdivision
+                JointKind::CurvatureExtremum | JointKind::Subdivision | JointKind::Inflection
             );
             if mergeable {
                 let (a, b) = (state.joints[j - 1], state.joints[j + 1]);

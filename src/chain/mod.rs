@@ -8,9 +8,11 @@
 //!
 //! Tolerance: a segment whose samples are not all within the tolerance is subdivided at its
 //! parameter midpoint (the new joint taken on the B-spline, still G1) and refitted, up to
-//! [`ChainOptions::max_depth`] times. Then neighbours are merged where one segment covers both
-//! within the tolerance: across a curvature extremum (noise) or a subdivision joint, never across
-//! an inflection (a log-aesthetic segment has one curvature sign) or a corner (not in a piece).
+//! [`ChainOptions::max_depth`] times. Then runs that a straight line holds within the tolerance
+//! become one line segment, and neighbours are merged where one segment covers both within the
+//! tolerance: across a curvature extremum, a subdivision joint or an inflection (the data decide:
+//! a real inflection cannot be absorbed by one single-signed segment), never across a corner
+//! (which separates pieces).
 //! Fewer segments are better, as the seed paper's future work asks.
 
 mod band;
