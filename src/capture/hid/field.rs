@@ -132,7 +132,14 @@ impl FieldSpec {
         let (p0, p1) = self.physical_range();
         let span = (self.logical_max - self.logical_min) as f64;
         let fraction = (logical - self.logical_min) as f64 / span;
-        (p0 + fraction * (p1 - p0)) * 10f64.powi(self.unit_exponent)
+        let value = p0 + fraction * (p1 - p0);
+        // Dividing by an exact power of ten rounds once: 22400 / 10^3 is 22.4, where
+        // 22400 * 10^-3 (10^-3 is inexact) is 22.400000000000002.
+        if self.unit_exponent < 0 {
+            value / 10f64.powi(-self.unit_exponent)
+        } else {
+            value * 10f64.powi(self.unit_exponent)
+        }
     }
 
     /// The logical value as a fraction of the logical range: 0 at the minimum, 1 at the maximum,
