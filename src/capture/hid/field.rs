@@ -149,3 +149,58 @@ impl FieldSpec {
         ((logical - self.logical_min) as f64 / span).clamp(0.0, 1.0)
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn field(bit_offset: usize, bit_size: usize, logical_min: i64, logical_max: i64) -> FieldSpec {
+        FieldSpec {
+            bit_offset,
+            bit_size,
+            logical_min,
+            logical_max,
+            physical_min: None,
+            physical_max: None,
+            unit: 0,
+            unit_exponent: 0,
+        }
+    }
+
+    #[test]
+    fn extracts_unaligned_little_endian_bits_with_sign() {
+        // 0b1011_0110 0b0000_0001: bits 1..=9 are 0b1_1011_011 = 0xDB.
+        let report = [0b1011_0110, 0b0000_0001];
+        assert_eq!(field(1, 9, 0, 511).extract(&report), Some(0xDB));
+        // The same bits signed: 0x1DB... 9-bit 0b0_1101_1011 is positive 219.
+        assert_eq!(field(1, 9, -256, 255).extract(&report), Some(219));
+        // Bits 4..=7 = 0b1011 as 4-bit two's complement is -5.
+        assert_eq!(field(4, 4, -8, 7).extract(&report), Some(-5));
+        // 32-bit fields at byte 1 need bytes 1..=4.
+        assert_eq!(field(8, 32, 0, i64::from(u32::MAX)).extract(&report), None);
+        let wide = [0, 0xff, 0xff, 0xff, 0xff];
+        assert_eq!(field(8, 32, i64::from(i32::MIN), i64::from(i32::MAX)).extract(&wide), Some(-1));
+        assert_eq!(field(8, 32, 0, i64::from(u32::MAX)).extract(&wide), Some(i64::from(u32::MAX)));
+    }
+
+    #[test]
+    fn physical_mapping_and_units() {
+        let mut x = field(0, 16, 0, 44800);
+        x.physical_max = Some(22400);
+        x.physical_min = Some(0);
+        x.unit = 0x11;
+        x.unit_exponent = -3;
+        assert_eq!(x.physical_unit(), PhysicalUnit::Length { mm_per_unit: MM_PER_CM });
+        assert_eq!(x.to_physical(44800) * MM_PER_CM, 224.0);
+        assert_eq!(x.to_physical(200) * MM_PER_CM, 1.0);
+        // Without a physical range, physical = logical.
+        let t = field(0, 8, -64, 63);
+        assert_eq!(t.to_physical(-64), -64.0);
+        assert_eq!(t.physical_unit(), PhysicalUnit::Other);
+        // cm² is not a length.
+        let mut area = x.clone();
+        area.unit = 0x21;
+        assert_eq!(area.physical_unit(), PhysicalUnit::Other);
+        assert_eq!(field(0, 16, 0, 8191).normalised(9000), 1.0);
+    }
+}

@@ -2,6 +2,11 @@
 //! it. It rejects, with the item's byte offset, what would make a parser panic or allocate without
 //! bound: items cut short, Usages without a Usage Page, Pop without Push, and counts beyond the
 //! limits the Linux HID core enforces on real devices.
+//!
+//! It also normalises one thing: like the Linux HID core (`hid_parser_global`), a Logical or
+//! Physical Maximum is read unsigned when its Minimum is not negative, so `0x25, 0xff` is 255.
+//! `hidreport` reads it signed (-1); the check rewrites such an item one size wider with a zero
+//! high byte, and keeps the map back to the original byte offsets.
 
 use super::error::HidError;
 
@@ -34,6 +39,10 @@ const MAIN_FEATURE: u8 = 0xB;
 const MAIN_END_COLLECTION: u8 = 0xC;
 
 const GLOBAL_USAGE_PAGE: u8 = 0x0;
+const GLOBAL_LOGICAL_MINIMUM: u8 = 0x1;
+const GLOBAL_LOGICAL_MAXIMUM: u8 = 0x2;
+const GLOBAL_PHYSICAL_MINIMUM: u8 = 0x3;
+const GLOBAL_PHYSICAL_MAXIMUM: u8 = 0x4;
 const GLOBAL_REPORT_SIZE: u8 = 0x7;
 const GLOBAL_REPORT_ID: u8 = 0x8;
 const GLOBAL_REPORT_COUNT: u8 = 0x9;
@@ -49,6 +58,33 @@ const LOCAL_USAGE_MAXIMUM: u8 = 0x2;
 struct Globals {
     usage_page: bool,
     report_count: u32,
+    logical_min_negative: bool,
+    physical_min_negative: bool,
+}
+
+/// A checked descriptor, with unsigned maxima made explicit (see the module documentation).
+#[derive(Clone, Debug, PartialEq)]
+pub struct CheckedDescriptor {
+    /// The bytes to hand the parser.
+    pub bytes: Vec<u8>,
+    /// For every item: (offset in `bytes`, offset in the original), ascending.
+    offsets: Vec<(usize, usize)>,
+}
+
+impl CheckedDescriptor {
+    /// The original byte offset of the item at `offset` in [`CheckedDescriptor::bytes`].
+    pub fn original_offset(&self, offset: usize) -> usize {
+        let i = self.offsets.partition_point(|&(new, _)| new <= offset);
+        match i.checked_sub(1).and_then(|i| self.offsets.get(i)) {
+            Some(&(new, old)) => old + (offset - new),
+            None => offset,
+        }
+    }
+}
+
+/// Whether the item data, read as the signed value HID defines, is negative.
+fn high_bit_set(data: &[u8]) -> bool {
+    data.last().is_some_and(|b| b & 0x80 != 0)
 }
 
 /// The local state, reset by every main item.
@@ -59,8 +95,9 @@ struct Locals {
     usage_maximum: Option<u32>,
 }
 
-/// Checks the descriptor's item structure; `Ok` means the `hidreport` parser can be run on it.
-pub fn check_items(bytes: &[u8]) -> Result<(), HidError> {
+/// Checks the descriptor's item structure; `Ok` holds the bytes the `hidreport` parser can be
+/// run on.
+pub fn check_items(bytes: &[u8]) -> Result<CheckedDescriptor, HidError> {
     if bytes.is_empty() {
         return Err(HidError::EmptyDescriptor);
     }
@@ -77,6 +114,10 @@ pub fn check_items(bytes: &[u8]) -> Result<(), HidError> {
     let mut depth = 0usize;
     let mut total_fields = 0u64;
     let mut offset = 0usize;
+    let mut out = CheckedDescriptor {
+        bytes: Vec::with_capacity(bytes.len()),
+        offsets: Vec::new(),
+    };
     while offset < bytes.len() {
         let prefix = bytes[offset];
         let remaining = bytes.len() - offset - 1;
@@ -96,6 +137,8 @@ pub fn check_items(bytes: &[u8]) -> Result<(), HidError> {
                     available: remaining,
                 });
             }
+            out.offsets.push((out.bytes.len(), offset));
+            out.bytes.extend_from_slice(&bytes[offset..offset + 1 + needed]);
             offset += 1 + needed;
             continue;
         }
@@ -117,6 +160,20 @@ pub fn check_items(bytes: &[u8]) -> Result<(), HidError> {
             .fold(0u32, |acc, &b| (acc << 8) | u32::from(b));
         let kind = (prefix >> 2) & 0b11;
         let tag = prefix >> 4;
+        out.offsets.push((out.bytes.len(), offset));
+        let unsigned_max = match (kind, tag) {
+            (TYPE_GLOBAL, GLOBAL_LOGICAL_MAXIMUM) => !globals.logical_min_negative,
+            (TYPE_GLOBAL, GLOBAL_PHYSICAL_MAXIMUM) => !globals.physical_min_negative,
+            _ => false,
+        };
+        if unsigned_max && (size == 1 || size == 2) && high_bit_set(data) {
+            // One size wider (1 -> 2 bytes, 2 -> 4: size codes 2 and 3), zero-extended.
+            out.bytes.push((prefix & !0b11) | (if size == 1 { 2 } else { 3 }));
+            out.bytes.extend_from_slice(data);
+            out.bytes.extend(std::iter::repeat_n(0u8, size));
+        } else {
+            out.bytes.extend_from_slice(&bytes[offset..offset + 1 + size]);
+        }
         match (kind, tag) {
             (TYPE_MAIN, MAIN_INPUT | MAIN_OUTPUT | MAIN_FEATURE | MAIN_COLLECTION) => {
                 if locals.short_usage && !globals.usage_page {
@@ -156,6 +213,10 @@ pub fn check_items(bytes: &[u8]) -> Result<(), HidError> {
                 locals = Locals::default();
             }
             (TYPE_GLOBAL, GLOBAL_USAGE_PAGE) => globals.usage_page = true,
+            (TYPE_GLOBAL, GLOBAL_LOGICAL_MINIMUM) => globals.logical_min_negative = high_bit_set(data),
+            (TYPE_GLOBAL, GLOBAL_PHYSICAL_MINIMUM) => {
+                globals.physical_min_negative = high_bit_set(data);
+            }
             (TYPE_GLOBAL, GLOBAL_REPORT_SIZE) if value > MAX_REPORT_SIZE_BITS => {
                 return Err(invalid(
                     offset,
@@ -207,5 +268,30 @@ pub fn check_items(bytes: &[u8]) -> Result<(), HidError> {
         }
         offset += 1 + size;
     }
-    Ok(())
+    Ok(out)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn unsigned_maxima_are_widened_and_offsets_map_back() {
+        // Logical Minimum 0, Logical Maximum 0xff (one byte), Physical Minimum -1, Physical
+        // Maximum 0xff (stays signed: its minimum is negative), End Collection at byte 8.
+        let d = [0x15, 0x00, 0x25, 0xff, 0x35, 0xff, 0x45, 0xff, 0xc0];
+        let checked = check_items(&d).expect_err("End Collection without Collection");
+        assert_eq!(
+            checked,
+            HidError::DescriptorInvalid {
+                offset: 8,
+                message: "End Collection without Collection".into()
+            }
+        );
+        let ok = check_items(&d[..8]).expect("checks");
+        assert_eq!(ok.bytes, [0x15, 0x00, 0x26, 0xff, 0x00, 0x35, 0xff, 0x45, 0xff]);
+        assert_eq!(ok.original_offset(5), 4);
+        assert_eq!(ok.original_offset(7), 6);
+        assert_eq!(ok.original_offset(2), 2);
+    }
 }

@@ -177,10 +177,13 @@ impl PenLayout {
     /// contact (no Contact Identifier, not inside a Finger collection). X and Y must have a
     /// length unit (cm or inch) and a non-empty logical range, every field at most 32 bits.
     pub fn from_descriptor(descriptor: &[u8]) -> Result<Self, HidError> {
-        check_items(descriptor)?;
-        let rdesc = ReportDescriptor::try_from(descriptor).map_err(|e| match e {
+        let checked = check_items(descriptor)?;
+        let rdesc = ReportDescriptor::try_from(checked.bytes.as_slice()).map_err(|e| match e {
             hidreport::ParserError::InvalidData { offset, message } => {
-                HidError::DescriptorInvalid { offset, message }
+                HidError::DescriptorInvalid {
+                    offset: checked.original_offset(offset),
+                    message,
+                }
             }
             other => HidError::DescriptorInvalid {
                 offset: 0,
