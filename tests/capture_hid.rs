@@ -9,7 +9,7 @@ use std::path::{Path, PathBuf};
 
 use kansei::capture::hid::PenLayout;
 use kansei::capture::recorder::Recording;
-use kansei::capture::replay::{recording_to_strokes, replay_text};
+use kansei::capture::replay::replay_text;
 use kansei::capture::stroke_builder::Tool;
 use kansei::stroke::{StrokeFile, Units};
 
@@ -101,23 +101,32 @@ fn read(path: &Path) -> String {
 #[test]
 fn decoder_agrees_with_hid_tools_on_every_recorded_report() {
     for path in shared_recordings() {
-        let name = path.file_name().and_then(|n| n.to_str()).unwrap_or("?").to_owned();
+        let name = path
+            .file_name()
+            .and_then(|n| n.to_str())
+            .unwrap_or("?")
+            .to_owned();
         let text = read(&path);
         let rec = Recording::parse(&text).unwrap_or_else(|e| panic!("{name}: {e}"));
         assert_eq!(rec.warning_count, 0, "{name}: {:?}", rec.warnings);
-        let layout = PenLayout::from_descriptor(&rec.descriptor).unwrap_or_else(|e| panic!("{name}: {e}"));
+        let layout =
+            PenLayout::from_descriptor(&rec.descriptor).unwrap_or_else(|e| panic!("{name}: {e}"));
         let lines: Vec<&str> = text.lines().collect();
         let (mut checked_pen, mut checked_other) = (0usize, 0usize);
         for ((_, bytes), &line_no) in rec.reports.iter().zip(&rec.report_lines) {
             let oracle_line = lines[line_no - 2];
-            let oracle = parse_oracle(oracle_line)
-                .unwrap_or_else(|| panic!("{name}:{}: no oracle line before the report", line_no - 1));
+            let oracle = parse_oracle(oracle_line).unwrap_or_else(|| {
+                panic!("{name}:{}: no oracle line before the report", line_no - 1)
+            });
             assert_eq!(bytes[0], oracle.report_id, "{name}:{line_no}");
             let decoded = layout
                 .decode(bytes)
                 .unwrap_or_else(|e| panic!("{name}:{line_no}: {e}"));
             let Some(r) = decoded else {
-                assert_ne!(oracle.report_id, PEN_REPORT_ID, "{name}:{line_no}: pen report not decoded");
+                assert_ne!(
+                    oracle.report_id, PEN_REPORT_ID,
+                    "{name}:{line_no}: pen report not decoded"
+                );
                 checked_other += 1;
                 continue;
             };
@@ -125,29 +134,69 @@ fn decoder_agrees_with_hid_tools_on_every_recorded_report() {
             assert_eq!(r.report_id, oracle.report_id, "{at}");
             assert_eq!(r.raw_x, oracle.get("X", line_no), "{at}: X");
             assert_eq!(r.raw_y, oracle.get("Y", line_no), "{at}: Y");
-            assert_eq!(r.raw_pressure, Some(oracle.get("Tip Pressure", line_no)), "{at}: pressure");
-            assert_eq!(r.raw_tilt_x, Some(oracle.get("X Tilt", line_no)), "{at}: X tilt");
-            assert_eq!(r.raw_tilt_y, Some(oracle.get("Y Tilt", line_no)), "{at}: Y tilt");
+            assert_eq!(
+                r.raw_pressure,
+                Some(oracle.get("Tip Pressure", line_no)),
+                "{at}: pressure"
+            );
+            assert_eq!(
+                r.raw_tilt_x,
+                Some(oracle.get("X Tilt", line_no)),
+                "{at}: X tilt"
+            );
+            assert_eq!(
+                r.raw_tilt_y,
+                Some(oracle.get("Y Tilt", line_no)),
+                "{at}: Y tilt"
+            );
             let flag = |n: &str| oracle.get(n, line_no) != 0;
             assert_eq!(r.tip, flag("Tip Switch"), "{at}: Tip Switch");
             assert_eq!(r.in_range, flag("In Range"), "{at}: In Range");
-            assert_eq!(r.barrel, [flag("Barrel Switch"), flag("Secondary Barrel Switch")], "{at}: barrels");
+            assert_eq!(
+                r.barrel,
+                [flag("Barrel Switch"), flag("Secondary Barrel Switch")],
+                "{at}: barrels"
+            );
             assert_eq!(r.eraser, flag("Eraser"), "{at}: Eraser");
             assert_eq!(r.invert, flag("Invert"), "{at}: Invert");
             // The physical values follow from the raw ones by the descriptor's ranges.
-            assert!((r.x_mm - r.raw_x as f64 * MM_PER_X_UNIT).abs() < CONVERSION_TOL, "{at}: x_mm {}", r.x_mm);
-            assert!((r.y_mm - r.raw_y as f64 * MM_PER_Y_UNIT).abs() < CONVERSION_TOL, "{at}: y_mm {}", r.y_mm);
+            assert!(
+                (r.x_mm - r.raw_x as f64 * MM_PER_X_UNIT).abs() < CONVERSION_TOL,
+                "{at}: x_mm {}",
+                r.x_mm
+            );
+            assert!(
+                (r.y_mm - r.raw_y as f64 * MM_PER_Y_UNIT).abs() < CONVERSION_TOL,
+                "{at}: y_mm {}",
+                r.y_mm
+            );
             let p = r.pressure.expect("pressure");
-            assert!((p - r.raw_pressure.expect("raw") as f64 / PRESSURE_MAX).abs() < CONVERSION_TOL, "{at}");
+            assert!(
+                (p - r.raw_pressure.expect("raw") as f64 / PRESSURE_MAX).abs() < CONVERSION_TOL,
+                "{at}"
+            );
             // Tilt: logical −64..63 ↔ physical −64..63 degrees.
             assert_eq!(r.tilt_x_deg, r.raw_tilt_x.map(|v| v as f64), "{at}");
             assert_eq!(r.tilt_y_deg, r.raw_tilt_y.map(|v| v as f64), "{at}");
             checked_pen += 1;
         }
-        let oracle_lines = lines.iter().filter(|l| l.starts_with("# ReportID:")).count();
-        assert_eq!(checked_pen + checked_other, oracle_lines, "{name}: every oracle line checked");
-        assert_eq!(rec.reports.len(), lines.iter().filter(|l| l.starts_with("E:")).count(), "{name}");
-        eprintln!("{name}: {checked_pen} pen reports and {checked_other} other reports agree with hid-tools");
+        let oracle_lines = lines
+            .iter()
+            .filter(|l| l.starts_with("# ReportID:"))
+            .count();
+        assert_eq!(
+            checked_pen + checked_other,
+            oracle_lines,
+            "{name}: every oracle line checked"
+        );
+        assert_eq!(
+            rec.reports.len(),
+            lines.iter().filter(|l| l.starts_with("E:")).count(),
+            "{name}"
+        );
+        eprintln!(
+            "{name}: {checked_pen} pen reports and {checked_other} other reports agree with hid-tools"
+        );
     }
 }
 
@@ -155,7 +204,11 @@ fn decoder_agrees_with_hid_tools_on_every_recorded_report() {
 fn oracle_contact_runs(text: &str) -> Vec<usize> {
     let mut runs = Vec::new();
     let mut current = 0usize;
-    for o in text.lines().filter_map(parse_oracle).filter(|o| o.report_id == PEN_REPORT_ID) {
+    for o in text
+        .lines()
+        .filter_map(parse_oracle)
+        .filter(|o| o.report_id == PEN_REPORT_ID)
+    {
         let contact = o.fields.get("Tip Switch") == Some(&1) || o.fields.get("Eraser") == Some(&1);
         if contact {
             current += 1;
@@ -175,20 +228,35 @@ fn oracle_contact_runs(text: &str) -> Vec<usize> {
 #[test]
 fn stroke_counts_match_each_recording() {
     for path in shared_recordings() {
-        let name = path.file_name().and_then(|n| n.to_str()).unwrap_or("?").to_owned();
-        let (count, tool) = expected_strokes(&name)
-            .unwrap_or_else(|| panic!("{name}: new recording; add its stroke count to expected_strokes"));
+        let name = path
+            .file_name()
+            .and_then(|n| n.to_str())
+            .unwrap_or("?")
+            .to_owned();
+        let (count, tool) = expected_strokes(&name).unwrap_or_else(|| {
+            panic!("{name}: new recording; add its stroke count to expected_strokes")
+        });
         let text = read(&path);
         let (file, stats) = replay_text(&text).unwrap_or_else(|e| panic!("{name}: {e}"));
         file.validate().expect("valid");
         assert_eq!(file.units, Units::Mm);
         assert_eq!(file.strokes.len(), count, "{name}: strokes");
-        assert!(stats.tools.iter().all(|&t| t == tool), "{name}: tools {:?}", stats.tools);
+        assert!(
+            stats.tools.iter().all(|&t| t == tool),
+            "{name}: tools {:?}",
+            stats.tools
+        );
         assert_eq!(stats.warnings(), 0, "{name}: {stats:?}");
         let runs = oracle_contact_runs(&text);
         let samples: Vec<usize> = file.strokes.iter().map(|s| s.samples.len()).collect();
-        assert_eq!(samples, runs, "{name}: samples per stroke = oracle contact runs");
-        eprintln!("{name}: {count} stroke(s), samples {samples:?}, {} pen reports", stats.pen_reports);
+        assert_eq!(
+            samples, runs,
+            "{name}: samples per stroke = oracle contact runs"
+        );
+        eprintln!(
+            "{name}: {count} stroke(s), samples {samples:?}, {} pen reports",
+            stats.pen_reports
+        );
     }
 }
 
@@ -199,7 +267,10 @@ fn three_vertical_strokes_from_the_shared_folder() {
     let (file, stats) = replay_text(&text).expect("replays");
     let samples: Vec<usize> = file.strokes.iter().map(|s| s.samples.len()).collect();
     assert_eq!(samples, [118, 103, 94]);
-    assert_eq!((stats.reports, stats.pen_reports, stats.other_reports), (843, 838, 5));
+    assert_eq!(
+        (stats.reports, stats.pen_reports, stats.other_reports),
+        (843, 838, 5)
+    );
     let device = file.device.expect("device");
     assert_eq!(device["width_mm"], 224.0);
     assert_eq!(device["height_mm"], 148.0);
@@ -224,7 +295,11 @@ fn fixture_replays_to_kansei_stroke_and_fits() {
         // Vertical: far more travel in y than in x (the header sketch; y grows downwards).
         let (dx, dy) = ((last.x - first.x).abs(), (last.y - first.y).abs());
         assert!(dy > 20.0 && dy > 5.0 * dx, "stroke {i}: dx {dx} dy {dy}");
-        assert!(s.samples.iter().all(|p| p.pressure.is_some_and(|v| v > 0.0 && v <= 1.0)));
+        assert!(
+            s.samples
+                .iter()
+                .all(|p| p.pressure.is_some_and(|v| v > 0.0 && v <= 1.0))
+        );
     }
     let back = StrokeFile::from_json(&file.to_json()).expect("round trip");
     assert_eq!(back.strokes, file.strokes);

@@ -8,7 +8,7 @@ use std::panic::{AssertUnwindSafe, catch_unwind};
 use std::path::Path;
 
 use kansei::capture::hid::{HidError, PenLayout};
-use kansei::capture::recorder::{Recording, RecorderError};
+use kansei::capture::recorder::{RecorderError, Recording};
 use kansei::capture::replay::{CaptureError, recording_to_strokes, replay_text};
 use kansei::capture::stroke_builder::Tool;
 
@@ -19,8 +19,8 @@ const FIXTURE: &str = concat!(
 
 /// A mid-stroke pen report of the fixture (SOURCE.md excerpt): report ID 0x10, 27 bytes.
 const PEN_REPORT: [u8; 27] = [
-    0x10, 0x61, 0xe6, 0x12, 0x00, 0xf0, 0x2c, 0x00, 0xea, 0x14, 0x24, 0x00, 0x00, 0x00, 0x00,
-    0x00, 0x00, 0x06, 0x9c, 0x36, 0x80, 0x23, 0x02, 0x08, 0x11, 0x00, 0x02,
+    0x10, 0x61, 0xe6, 0x12, 0x00, 0xf0, 0x2c, 0x00, 0xea, 0x14, 0x24, 0x00, 0x00, 0x00, 0x00, 0x00,
+    0x00, 0x06, 0x9c, 0x36, 0x80, 0x23, 0x02, 0x08, 0x11, 0x00, 0x02,
 ];
 /// The last byte a pen field of the Intuos report occupies: Y Tilt, byte 11.
 const LAST_PEN_FIELD_BYTE: usize = 11;
@@ -36,8 +36,14 @@ fn wacom_layout() -> PenLayout {
 
 #[test]
 fn the_excerpt_report_decodes() {
-    let r = wacom_layout().decode(&PEN_REPORT).expect("ok").expect("pen");
-    assert_eq!((r.raw_x, r.raw_y, r.raw_pressure), (4838, 11504, Some(5354)));
+    let r = wacom_layout()
+        .decode(&PEN_REPORT)
+        .expect("ok")
+        .expect("pen");
+    assert_eq!(
+        (r.raw_x, r.raw_y, r.raw_pressure),
+        (4838, 11504, Some(5354))
+    );
     assert!(r.tip && r.in_range && r.contact && !r.is_eraser());
     assert_eq!(r.tilt_x_deg, Some(36.0));
 }
@@ -54,8 +60,14 @@ fn truncated_reports_name_the_field_and_byte() {
                 field,
             }) => {
                 assert_eq!(l, len);
-                assert!(needed_byte >= len, "{field} needs byte {needed_byte} of {len}");
-                let msg = layout.decode(&PEN_REPORT[..len]).unwrap_err().to_string();
+                assert!(
+                    needed_byte >= len,
+                    "{field} needs byte {needed_byte} of {len}"
+                );
+                let msg = layout
+                    .decode(&PEN_REPORT[..len])
+                    .expect_err("an error")
+                    .to_string();
                 assert!(msg.contains("truncated") && msg.contains(field), "{msg}");
             }
             other => panic!("{len} bytes: {other:?}"),
@@ -63,7 +75,10 @@ fn truncated_reports_name_the_field_and_byte() {
     }
     // Bytes past the last pen field (twist, serial, ...) are not needed.
     for len in LAST_PEN_FIELD_BYTE + 1..=PEN_REPORT.len() {
-        assert!(layout.decode(&PEN_REPORT[..len]).expect("ok").is_some(), "{len}");
+        assert!(
+            layout.decode(&PEN_REPORT[..len]).expect("ok").is_some(),
+            "{len}"
+        );
     }
     assert_eq!(layout.decode(&[]), Err(HidError::EmptyReport));
 }
@@ -73,7 +88,7 @@ fn unknown_report_ids_are_errors_and_declared_non_pen_reports_are_none() {
     let layout = wacom_layout();
     let mut report = PEN_REPORT;
     report[0] = 0x42;
-    let err = layout.decode(&report).unwrap_err();
+    let err = layout.decode(&report).expect_err("an error");
     assert_eq!(err, HidError::UnknownReportId { report_id: 0x42 });
     assert!(err.to_string().contains("byte 0"), "{err}");
     // 0x13 is the battery report: declared, not a pen report.
@@ -87,7 +102,7 @@ fn descriptor_cut_mid_item_names_the_item_offset() {
     // Byte 102 is `0x47, 0x80, 0x57, 0x00, 0x00` (Physical Maximum 22400): keep 2 of its 4
     // data bytes.
     assert_eq!(descriptor[102], 0x47);
-    let err = PenLayout::from_descriptor(&descriptor[..105]).unwrap_err();
+    let err = PenLayout::from_descriptor(&descriptor[..105]).expect_err("an error");
     assert_eq!(
         err,
         HidError::DescriptorTruncated {
@@ -113,7 +128,10 @@ fn every_truncation_of_the_descriptor_is_an_error_or_a_layout_never_a_panic() {
     }
     // Cut after the pen report's collection, the pen is found; cut before X, it is not.
     assert!(layouts > 0 && layouts < descriptor.len());
-    assert_eq!(PenLayout::from_descriptor(&descriptor[..93]), Err(HidError::NoPenReport));
+    assert_eq!(
+        PenLayout::from_descriptor(&descriptor[..93]),
+        Err(HidError::NoPenReport)
+    );
 }
 
 /// A small deterministic generator (64-bit LCG, Knuth's MMIX constants).
@@ -168,8 +186,11 @@ fn hostile_descriptors_are_refused_with_offsets() {
     ));
     // A Report Count of 2^32 - 1.
     let d = [0x05, 0x0d, 0x97, 0xff, 0xff, 0xff, 0xff];
-    let err = PenLayout::from_descriptor(&d).unwrap_err();
-    assert!(matches!(err, HidError::DescriptorInvalid { offset: 2, .. }), "{err}");
+    let err = PenLayout::from_descriptor(&d).expect_err("an error");
+    assert!(
+        matches!(err, HidError::DescriptorInvalid { offset: 2, .. }),
+        "{err}"
+    );
     // A Usage Minimum..Maximum spanning four billion usages.
     let d = [
         0x1b, 0, 0, 0, 0, 0x2b, 0xff, 0xff, 0xff, 0xff, 0x75, 1, 0x95, 1, 0x81, 0x02,
@@ -187,7 +208,10 @@ fn hostile_descriptors_are_refused_with_offsets() {
         PenLayout::from_descriptor(&[0x05, 0x0d, 0xfe, 0x10, 0x01, 0x00]),
         Err(HidError::DescriptorTruncated { offset: 2, .. })
     ));
-    assert_eq!(PenLayout::from_descriptor(&[]), Err(HidError::EmptyDescriptor));
+    assert_eq!(
+        PenLayout::from_descriptor(&[]),
+        Err(HidError::EmptyDescriptor)
+    );
     assert!(matches!(
         PenLayout::from_descriptor(&vec![0x00; 5000]),
         Err(HidError::DescriptorTooLong { len: 5000, .. })
@@ -226,15 +250,26 @@ Q: what
 E:
 ";
     let text = fixture_with(garbage);
-    let first = text.lines().position(|l| l == "hello world").expect("inserted") + 1;
+    let first = text
+        .lines()
+        .position(|l| l == "hello world")
+        .expect("inserted")
+        + 1;
     let rec = Recording::parse(&text).expect("parses");
     // Every line but `E: 0.5 2 10 61` (well-formed, but a truncated report) is skipped.
     assert_eq!(rec.warning_count, 10, "{:?}", rec.warnings);
     let lines: Vec<usize> = rec.warnings.iter().map(|w| w.line).collect();
     let expected: Vec<usize> = (0..11).filter(|&i| i != 5).map(|i| first + i).collect();
     assert_eq!(lines, expected);
-    assert!(rec.warnings[2].message.contains("exceeds") || rec.warnings[2].message.contains("not a number"));
-    assert!(rec.warnings[3].message.contains("limit"), "{}", rec.warnings[3].message);
+    assert!(
+        rec.warnings[2].message.contains("exceeds")
+            || rec.warnings[2].message.contains("not a number")
+    );
+    assert!(
+        rec.warnings[3].message.contains("limit"),
+        "{}",
+        rec.warnings[3].message
+    );
     let (file, stats) = recording_to_strokes(&rec).expect("replays");
     assert_eq!(file.strokes.len(), 3);
     assert_eq!(stats.recorder_warnings, 10);
@@ -250,7 +285,10 @@ fn unknown_report_ids_in_a_recording_are_counted() {
     let (file, stats) = replay_text(&text).expect("replays");
     assert_eq!(file.strokes.len(), 3);
     assert_eq!(stats.decode_errors, 1);
-    assert_eq!(stats.first_decode_errors[0].1, HidError::UnknownReportId { report_id: 0x42 });
+    assert_eq!(
+        stats.first_decode_errors[0].1,
+        HidError::UnknownReportId { report_id: 0x42 }
+    );
 }
 
 #[test]
@@ -265,7 +303,7 @@ fn descriptor_line_errors_name_the_line() {
         Err(RecorderError::BadDescriptor { line: 2, .. })
     ));
     let huge = "R: 18446744073709551615 05\n";
-    let err = Recording::parse(huge).unwrap_err();
+    let err = Recording::parse(huge).expect_err("an error");
     assert!(err.to_string().starts_with("line 1:"), "{err}");
     let not_hex = "R: 2 05 0x\n";
     assert!(matches!(
@@ -323,7 +361,12 @@ const GENERIC_PEN_TAIL: [u8; 33] = [
 const GENERIC_PEN_END: [u8; 4] = [0x81, 0x02, 0xc0, 0xc0];
 
 fn generic_descriptor() -> Vec<u8> {
-    [&GENERIC_PEN[..], &GENERIC_PEN_TAIL[..], &GENERIC_PEN_END[..]].concat()
+    [
+        &GENERIC_PEN[..],
+        &GENERIC_PEN_TAIL[..],
+        &GENERIC_PEN_END[..],
+    ]
+    .concat()
 }
 
 /// Flags bits: Tip, Barrel, Secondary Barrel, Eraser, Invert, In Range.
@@ -363,16 +406,31 @@ fn generic_pen_without_report_ids_in_inches_and_radians() {
 #[test]
 fn an_eraser_without_tip_switch_makes_a_marked_eraser_stroke() {
     let layout = PenLayout::from_descriptor(&generic_descriptor()).expect("layout");
-    let hover = layout.decode(&generic_report(INVERT | IN_RANGE, 100, 100, 0, 0, 0)).expect("ok").expect("pen");
+    let hover = layout
+        .decode(&generic_report(INVERT | IN_RANGE, 100, 100, 0, 0, 0))
+        .expect("ok")
+        .expect("pen");
     assert!(hover.is_eraser() && !hover.contact);
     let touch = layout
-        .decode(&generic_report(ERASER | INVERT | IN_RANGE, 100, 100, 500, 0, 0))
+        .decode(&generic_report(
+            ERASER | INVERT | IN_RANGE,
+            100,
+            100,
+            500,
+            0,
+            0,
+        ))
         .expect("ok")
         .expect("pen");
     assert!(touch.eraser && !touch.tip && touch.contact);
 
     // As a recording: hover, eraser contact over 5 reports, hover, a pen stroke, a lone tap.
-    let hex = |r: &[u8]| r.iter().map(|b| format!("{b:02x}")).collect::<Vec<_>>().join(" ");
+    let hex = |r: &[u8]| {
+        r.iter()
+            .map(|b| format!("{b:02x}"))
+            .collect::<Vec<_>>()
+            .join(" ")
+    };
     let d = generic_descriptor();
     let mut text = format!("R: {} {}\nN: generic pen\n", d.len(), hex(&d));
     let mut t = 0.0;
@@ -380,30 +438,53 @@ fn an_eraser_without_tip_switch_makes_a_marked_eraser_stroke() {
         t += 0.005;
         text.push_str(&format!("E: {t:.6} {} {}\n", r.len(), hex(&r)));
     };
-    push(generic_report(INVERT | IN_RANGE, 100, 100, 0, 0, 0), &mut text);
+    push(
+        generic_report(INVERT | IN_RANGE, 100, 100, 0, 0, 0),
+        &mut text,
+    );
     for i in 0..5 {
-        push(generic_report(ERASER | INVERT | IN_RANGE, 100 + 50 * i, 100, 500, 0, 0), &mut text);
+        push(
+            generic_report(ERASER | INVERT | IN_RANGE, 100 + 50 * i, 100, 500, 0, 0),
+            &mut text,
+        );
     }
-    push(generic_report(INVERT | IN_RANGE, 400, 100, 0, 0, 0), &mut text);
+    push(
+        generic_report(INVERT | IN_RANGE, 400, 100, 0, 0, 0),
+        &mut text,
+    );
     push(generic_report(IN_RANGE, 400, 100, 0, 0, 0), &mut text);
     for i in 0..4 {
-        push(generic_report(TIP | IN_RANGE, 400, 100 + 80 * i, 300, 0, 0), &mut text);
+        push(
+            generic_report(TIP | IN_RANGE, 400, 100 + 80 * i, 300, 0, 0),
+            &mut text,
+        );
     }
     push(generic_report(IN_RANGE, 400, 400, 0, 0, 0), &mut text);
-    push(generic_report(TIP | IN_RANGE, 400, 400, 300, 0, 0), &mut text);
+    push(
+        generic_report(TIP | IN_RANGE, 400, 400, 300, 0, 0),
+        &mut text,
+    );
     push(generic_report(0, 400, 400, 0, 0, 0), &mut text);
     let (file, stats) = replay_text(&text).expect("replays");
     assert_eq!(stats.tools, [Tool::Eraser, Tool::Pen]);
     assert_eq!(file.strokes[0].samples.len(), 5);
     assert_eq!(file.strokes[1].samples.len(), 4);
     assert_eq!(stats.short_runs_dropped, 1, "the one-report tap");
-    assert_eq!(file.device.expect("device")["eraser_strokes"], serde_json::json!([0]));
+    assert_eq!(
+        file.device.expect("device")["eraser_strokes"],
+        serde_json::json!([0])
+    );
 }
 
 #[test]
 fn times_going_backwards_are_dropped_and_counted() {
     let d = generic_descriptor();
-    let hex = |r: &[u8]| r.iter().map(|b| format!("{b:02x}")).collect::<Vec<_>>().join(" ");
+    let hex = |r: &[u8]| {
+        r.iter()
+            .map(|b| format!("{b:02x}"))
+            .collect::<Vec<_>>()
+            .join(" ")
+    };
     let mut text = format!("R: {} {}\n", d.len(), hex(&d));
     for (t, y) in [(0.01, 0), (0.02, 100), (0.015, 200), (0.03, 300)] {
         let r = generic_report(TIP | IN_RANGE, 0, y, 300, 0, 0);
@@ -440,7 +521,12 @@ fn pressure_alone_is_contact_when_the_pen_has_no_switches() {
 /// An unsigned 8-bit Logical Maximum written as one byte (`0x25, 0xff`) is 255, not -1.
 #[test]
 fn one_byte_logical_maximum_of_255_is_unsigned() {
-    let mut d: Vec<u8> = [&GENERIC_PEN[..], &GENERIC_PEN_TAIL[..], &GENERIC_PEN_END[..]].concat();
+    let mut d: Vec<u8> = [
+        &GENERIC_PEN[..],
+        &GENERIC_PEN_TAIL[..],
+        &GENERIC_PEN_END[..],
+    ]
+    .concat();
     // Pressure: Logical Maximum 0x26 0xff 0x03 → 0x25 0xff, 16-bit field kept.
     let at = GENERIC_PEN.len() + 6;
     assert_eq!(&d[at..at + 3], &[0x26, 0xff, 0x03]);

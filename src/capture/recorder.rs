@@ -101,7 +101,10 @@ impl Recording {
                 continue;
             }
             if device != 0 {
-                rec.warn(line_no, format!("line of device {device} ignored: only device 0 is read"));
+                rec.warn(
+                    line_no,
+                    format!("line of device {device} ignored: only device 0 is read"),
+                );
                 continue;
             }
             match tag {
@@ -182,7 +185,9 @@ fn parse_event(text: &str) -> Result<(f64, Vec<u8>), String> {
         .parse()
         .map_err(|_| format!("time {t_text:?} is not a number"))?;
     if !(t.is_finite() && t >= 0.0) {
-        return Err(format!("time {t_text:?} is not a finite non-negative number"));
+        return Err(format!(
+            "time {t_text:?} is not a finite non-negative number"
+        ));
     }
     let bytes = parse_sized_hex(rest.trim(), MAX_REPORT_BYTES)?;
     if bytes.is_empty() {

@@ -5,7 +5,7 @@ use serde_json::json;
 use thiserror::Error;
 
 use crate::capture::hid::{HidError, PenFields, PenLayout};
-use crate::capture::recorder::{Recording, RecorderError};
+use crate::capture::recorder::{RecorderError, Recording};
 use crate::capture::stroke_builder::{StrokeBuilder, Tool};
 use crate::stroke::{StrokeError, StrokeFile, Units};
 
@@ -97,27 +97,24 @@ pub fn recording_to_strokes(
     stats.short_runs_dropped = builder_stats.short_runs_dropped;
     stats.backwards_samples_dropped = builder_stats.backwards_samples_dropped;
     stats.tools = built.iter().map(|b| b.tool).collect();
-    let eraser_strokes: Vec<usize> = (0..built.len())
-        .filter(|&i| stats.tools[i] == Tool::Eraser)
+    let eraser_strokes: Vec<usize> = (stats.tools.iter().enumerate())
+        .filter(|(_, tool)| **tool == Tool::Eraser)
+        .map(|(i, _)| i)
         .collect();
     let mut file = StrokeFile::new(Units::Mm, built.into_iter().map(|b| b.stroke).collect());
     file.source = Some(match &recording.name {
         Some(name) => format!("hid-recorder: {name}"),
         None => "hid-recorder".to_owned(),
     });
-    let mut device = layout
-        .pens
-        .first()
-        .map(device_info)
-        .unwrap_or_else(|| json!({}));
-    device["name"] = json!(recording.name);
+    let mut device = layout.pens.first().map(device_info).unwrap_or_default();
+    device.insert("name".into(), json!(recording.name));
     if let Some((bus, vendor, product)) = recording.id {
-        device["bus"] = json!(bus);
-        device["vendor_id"] = json!(format!("{vendor:04x}"));
-        device["product_id"] = json!(format!("{product:04x}"));
+        device.insert("bus".into(), json!(bus));
+        device.insert("vendor_id".into(), json!(format!("{vendor:04x}")));
+        device.insert("product_id".into(), json!(format!("{product:04x}")));
     }
-    device["eraser_strokes"] = json!(eraser_strokes);
-    file.device = Some(device);
+    device.insert("eraser_strokes".into(), json!(eraser_strokes));
+    file.device = Some(serde_json::Value::Object(device));
     file.validate()?;
     Ok((file, stats))
 }
@@ -128,17 +125,27 @@ pub fn replay_text(text: &str) -> Result<(StrokeFile, ReplayStats), CaptureError
 }
 
 /// The device description of a pen report's fields.
-fn device_info(pen: &PenFields) -> serde_json::Value {
+fn device_info(pen: &PenFields) -> serde_json::Map<String, serde_json::Value> {
     let extent = |f: &crate::capture::hid::FieldSpec, mm: f64| {
         (f.to_physical(f.logical_max) - f.to_physical(f.logical_min)) * mm
     };
-    json!({
-        "interface": "hid",
-        "width_mm": extent(&pen.x, pen.x_mm_per_unit),
-        "height_mm": extent(&pen.y, pen.y_mm_per_unit),
-        "pressure_levels": pen.pressure.as_ref().map(|p| p.logical_max - p.logical_min + 1),
-        "tilt": pen.tilt_x.is_some() || pen.tilt_y.is_some(),
-        "eraser": pen.invert.is_some() || pen.eraser.is_some(),
-        "y_axis": "down",
-    })
+    let mut m = serde_json::Map::new();
+    m.insert("interface".into(), json!("hid"));
+    m.insert("width_mm".into(), json!(extent(&pen.x, pen.x_mm_per_unit)));
+    m.insert("height_mm".into(), json!(extent(&pen.y, pen.y_mm_per_unit)));
+    let levels = pen
+        .pressure
+        .as_ref()
+        .map(|p| p.logical_max - p.logical_min + 1);
+    m.insert("pressure_levels".into(), json!(levels));
+    m.insert(
+        "tilt".into(),
+        json!(pen.tilt_x.is_some() || pen.tilt_y.is_some()),
+    );
+    m.insert(
+        "eraser".into(),
+        json!(pen.invert.is_some() || pen.eraser.is_some()),
+    );
+    m.insert("y_axis".into(), json!("down"));
+    m
 }

@@ -99,11 +99,7 @@ impl StrokeBuilder {
             return;
         };
         let first = run.stroke.samples.first().map(Sample::point);
-        let moved = run
-            .stroke
-            .samples
-            .iter()
-            .any(|s| Some(s.point()) != first);
+        let moved = run.stroke.samples.iter().any(|s| Some(s.point()) != first);
         if moved {
             self.done.push(run);
         } else {

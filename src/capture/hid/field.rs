@@ -67,12 +67,16 @@ impl FieldSpec {
 
     /// The index of the last byte the field touches.
     pub fn last_byte(&self) -> usize {
-        (self.bit_offset + self.bit_size - 1) / 8
+        (self.bit_offset + self.bit_size.max(1) - 1) / 8
     }
 
     /// The field's logical value in `report`, or `None` when the report is too short.
     /// Bits are little-endian, as HID reports are.
+    /// Also `None` for a width outside 1..=[`MAX_FIELD_BITS`] (a layout never holds one).
     pub fn extract(&self, report: &[u8]) -> Option<i64> {
+        if !(1..=MAX_FIELD_BITS).contains(&self.bit_size) {
+            return None;
+        }
         let first = self.bit_offset / 8;
         let bytes = report.get(first..=self.last_byte())?;
         let word = bytes
@@ -179,8 +183,14 @@ mod tests {
         // 32-bit fields at byte 1 need bytes 1..=4.
         assert_eq!(field(8, 32, 0, i64::from(u32::MAX)).extract(&report), None);
         let wide = [0, 0xff, 0xff, 0xff, 0xff];
-        assert_eq!(field(8, 32, i64::from(i32::MIN), i64::from(i32::MAX)).extract(&wide), Some(-1));
-        assert_eq!(field(8, 32, 0, i64::from(u32::MAX)).extract(&wide), Some(i64::from(u32::MAX)));
+        assert_eq!(
+            field(8, 32, i64::from(i32::MIN), i64::from(i32::MAX)).extract(&wide),
+            Some(-1)
+        );
+        assert_eq!(
+            field(8, 32, 0, i64::from(u32::MAX)).extract(&wide),
+            Some(i64::from(u32::MAX))
+        );
     }
 
     #[test]
@@ -190,7 +200,12 @@ mod tests {
         x.physical_min = Some(0);
         x.unit = 0x11;
         x.unit_exponent = -3;
-        assert_eq!(x.physical_unit(), PhysicalUnit::Length { mm_per_unit: MM_PER_CM });
+        assert_eq!(
+            x.physical_unit(),
+            PhysicalUnit::Length {
+                mm_per_unit: MM_PER_CM
+            }
+        );
         assert_eq!(x.to_physical(44800) * MM_PER_CM, 224.0);
         assert_eq!(x.to_physical(200) * MM_PER_CM, 1.0);
         // Without a physical range, physical = logical.

@@ -138,7 +138,8 @@ pub fn check_items(bytes: &[u8]) -> Result<CheckedDescriptor, HidError> {
                 });
             }
             out.offsets.push((out.bytes.len(), offset));
-            out.bytes.extend_from_slice(&bytes[offset..offset + 1 + needed]);
+            out.bytes
+                .extend_from_slice(&bytes[offset..offset + 1 + needed]);
             offset += 1 + needed;
             continue;
         }
@@ -168,11 +169,13 @@ pub fn check_items(bytes: &[u8]) -> Result<CheckedDescriptor, HidError> {
         };
         if unsigned_max && (size == 1 || size == 2) && high_bit_set(data) {
             // One size wider (1 -> 2 bytes, 2 -> 4: size codes 2 and 3), zero-extended.
-            out.bytes.push((prefix & !0b11) | (if size == 1 { 2 } else { 3 }));
+            out.bytes
+                .push((prefix & !0b11) | (if size == 1 { 2 } else { 3 }));
             out.bytes.extend_from_slice(data);
             out.bytes.extend(std::iter::repeat_n(0u8, size));
         } else {
-            out.bytes.extend_from_slice(&bytes[offset..offset + 1 + size]);
+            out.bytes
+                .extend_from_slice(&bytes[offset..offset + 1 + size]);
         }
         match (kind, tag) {
             (TYPE_MAIN, MAIN_INPUT | MAIN_OUTPUT | MAIN_FEATURE | MAIN_COLLECTION) => {
@@ -213,7 +216,9 @@ pub fn check_items(bytes: &[u8]) -> Result<CheckedDescriptor, HidError> {
                 locals = Locals::default();
             }
             (TYPE_GLOBAL, GLOBAL_USAGE_PAGE) => globals.usage_page = true,
-            (TYPE_GLOBAL, GLOBAL_LOGICAL_MINIMUM) => globals.logical_min_negative = high_bit_set(data),
+            (TYPE_GLOBAL, GLOBAL_LOGICAL_MINIMUM) => {
+                globals.logical_min_negative = high_bit_set(data)
+            }
             (TYPE_GLOBAL, GLOBAL_PHYSICAL_MINIMUM) => {
                 globals.physical_min_negative = high_bit_set(data);
             }
@@ -289,7 +294,10 @@ mod tests {
             }
         );
         let ok = check_items(&d[..8]).expect("checks");
-        assert_eq!(ok.bytes, [0x15, 0x00, 0x26, 0xff, 0x00, 0x35, 0xff, 0x45, 0xff]);
+        assert_eq!(
+            ok.bytes,
+            [0x15, 0x00, 0x26, 0xff, 0x00, 0x35, 0xff, 0x45, 0xff]
+        );
         assert_eq!(ok.original_offset(5), 4);
         assert_eq!(ok.original_offset(7), 6);
         assert_eq!(ok.original_offset(2), 2);

@@ -221,7 +221,7 @@ impl PenLayout {
                 if let Some(slot) = found.slot(role)
                     && slot.is_none()
                 {
-                    *slot = Some(spec(&v));
+                    *slot = Some(spec(v));
                 }
             }
             let pen_usage =
@@ -230,13 +230,7 @@ impl PenLayout {
                 continue;
             }
             if let (Some(x), Some(y)) = (found.x.take(), found.y.take()) {
-                pens.push(pen_fields(
-                    report_id,
-                    report.size_in_bytes(),
-                    x,
-                    y,
-                    found,
-                )?);
+                pens.push(pen_fields(report_id, report.size_in_bytes(), x, y, found)?);
             }
         }
         if pens.is_empty() {
@@ -286,7 +280,10 @@ fn pen_fields(
         if f.bit_size == 0 || f.bit_size > MAX_FIELD_BITS {
             return Err(bad(
                 name,
-                format!("{} bits; at most {MAX_FIELD_BITS} are supported", f.bit_size),
+                format!(
+                    "{} bits; at most {MAX_FIELD_BITS} are supported",
+                    f.bit_size
+                ),
             ));
         }
         // Switches may declare 0..0 (some descriptors leave Logical Maximum unset for bits);
@@ -295,16 +292,16 @@ fn pen_fields(
         if is_value && f.logical_max <= f.logical_min {
             return Err(bad(
                 name,
-                format!(
-                    "empty logical range {}..{}",
-                    f.logical_min, f.logical_max
-                ),
+                format!("empty logical range {}..{}", f.logical_min, f.logical_max),
             ));
         }
         if is_value && f.unit_exponent.unsigned_abs() > MAX_UNIT_EXPONENT {
             return Err(bad(
                 name,
-                format!("unit exponent {} out of -{MAX_UNIT_EXPONENT}..={MAX_UNIT_EXPONENT}", f.unit_exponent),
+                format!(
+                    "unit exponent {} out of -{MAX_UNIT_EXPONENT}..={MAX_UNIT_EXPONENT}",
+                    f.unit_exponent
+                ),
             ));
         }
     }

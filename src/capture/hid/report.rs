@@ -89,8 +89,12 @@ impl PenLayout {
                 len: report.len(),
             })
         };
-        let opt = |name: &'static str, f: &Option<FieldSpec>| f.as_ref().map(|f| read(name, f)).transpose();
-        let switch = |name: &'static str, f: &Option<FieldSpec>| Ok::<bool, HidError>(opt(name, f)?.is_some_and(|v| v != 0));
+        let opt = |name: &'static str, f: &Option<FieldSpec>| {
+            f.as_ref().map(|f| read(name, f)).transpose()
+        };
+        let switch = |name: &'static str, f: &Option<FieldSpec>| {
+            Ok::<bool, HidError>(opt(name, f)?.is_some_and(|v| v != 0))
+        };
 
         let raw_x = read("X", &pen.x)?;
         let raw_y = read("Y", &pen.y)?;
