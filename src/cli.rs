@@ -28,6 +28,18 @@ pub enum Command {
     Fit(FitArgs),
     /// Time the B-spline and split stages over stroke files.
     Bench(BenchArgs),
+    /// Convert a recording (hid-recorder `.hid`, or any input `fit` reads) to kansei-stroke JSON.
+    Replay(ReplayArgs),
+}
+
+/// `kansei replay`.
+#[derive(Debug, Args)]
+pub struct ReplayArgs {
+    /// The recording.
+    pub input: PathBuf,
+    /// Where to write the kansei-stroke JSON.
+    #[arg(long)]
+    pub out: PathBuf,
 }
 
 /// Options shared by `fit` and `bench`.
@@ -145,6 +157,14 @@ pub enum CliError {
         /// The cause.
         source: crate::pipeline::PipelineError,
     },
+    /// A recording could not be read.
+    #[error("{path}: {message}")]
+    Capture {
+        /// The file.
+        path: PathBuf,
+        /// What went wrong.
+        message: String,
+    },
     /// Bad arguments.
     #[error("{0}")]
     Usage(String),
@@ -155,19 +175,61 @@ pub fn run(cli: Cli, out: &mut dyn std::io::Write) -> Result<(), CliError> {
     match cli.command {
         Command::Fit(args) => fit(&args, out),
         Command::Bench(args) => bench(&args, out),
+        Command::Replay(args) => {
+            let file = read_strokes(&args.input)?;
+            write_atomic(&args.out, file.to_json().as_bytes())?;
+            let samples: usize = file.strokes.iter().map(|s| s.samples.len()).sum();
+            writeln!(
+                out,
+                "{}: {} strokes, {samples} samples ({}) -> {}",
+                args.input.display(),
+                file.strokes.len(),
+                file.units.name(),
+                args.out.display()
+            )
+            .map_err(|source| CliError::Io {
+                path: "<stdout>".into(),
+                source,
+            })
+        }
     }
 }
 
-/// Reads and validates a stroke file.
+/// Reads and validates strokes from any supported file, chosen by extension: `kansei-stroke`
+/// JSON (anything else), hid-recorder `.hid`.
 pub fn read_strokes(path: &Path) -> Result<StrokeFile, CliError> {
     let text = std::fs::read_to_string(path).map_err(|source| CliError::Io {
         path: path.to_owned(),
         source,
     })?;
-    StrokeFile::from_json(&text).map_err(|source| CliError::Stroke {
+    let extension = path
+        .extension()
+        .map(|e| e.to_string_lossy().to_ascii_lowercase());
+    let capture = |message: String| CliError::Capture {
         path: path.to_owned(),
-        source,
-    })
+        message,
+    };
+    match extension.as_deref() {
+        Some("hid") => {
+            let (file, stats) =
+                crate::capture::replay::replay_text(&text).map_err(|e| capture(e.to_string()))?;
+            if stats.warnings() > 0 {
+                eprintln!(
+                    "warning: {}: {} reports or lines skipped",
+                    path.display(),
+                    stats.warnings()
+                );
+                for (line, error) in stats.first_decode_errors.iter().take(3) {
+                    eprintln!("  line {line}: {error}");
+                }
+            }
+            Ok(file)
+        }
+        _ => StrokeFile::from_json(&text).map_err(|source| CliError::Stroke {
+            path: path.to_owned(),
+            source,
+        }),
+    }
 }
 
 fn fit(args: &FitArgs, out: &mut dyn std::io::Write) -> Result<(), CliError> {

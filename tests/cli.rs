@@ -169,3 +169,55 @@ fn bad_input_exits_non_zero_naming_the_file() {
     assert_eq!(out.status.code(), Some(1));
     let _ = std::fs::remove_dir_all(dir);
 }
+
+#[test]
+fn a_recording_replays_and_fits_end_to_end() {
+    let recording = format!(
+        "{}/fixtures/hid/pen-three-vertical-strokes.hid",
+        env!("CARGO_MANIFEST_DIR")
+    );
+    let dir = std::env::temp_dir().join(format!("kansei-cli-replay-{}", std::process::id()));
+    let strokes = dir.join("strokes.json");
+    let out = kansei()
+        .args(["replay", &recording, "--out"])
+        .arg(&strokes)
+        .output()
+        .expect("runs");
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let file =
+        kansei::stroke::StrokeFile::from_json(&std::fs::read_to_string(&strokes).expect("written"))
+            .expect("valid");
+    assert_eq!(file.units, kansei::stroke::Units::Mm);
+    assert_eq!(file.strokes.len(), 3, "the recording holds three strokes");
+    // The replayed file and the recording itself fit the same.
+    let a = kansei().arg("fit").arg(&strokes).output().expect("runs");
+    let b = kansei().args(["fit", &recording]).output().expect("runs");
+    assert!(a.status.success() && b.status.success());
+    let (a, b) = (
+        String::from_utf8_lossy(&a.stdout),
+        String::from_utf8_lossy(&b.stdout),
+    );
+    let a = kansei::export::CurveFile::from_json(&a).expect("valid");
+    let b = kansei::export::CurveFile::from_json(&b).expect("valid");
+    assert_eq!(a, b);
+    assert!(
+        a.curves
+            .iter()
+            .all(|c| c.lac.as_ref().is_some_and(|l| l.within_tolerance))
+    );
+    // A damaged recording: a clear error naming the file, no panic.
+    let bad = dir.join("bad.hid");
+    std::fs::write(&bad, "N: nothing\nE: 0.1 3 01 02\n").expect("write");
+    let out = kansei().arg("fit").arg(&bad).output().expect("runs");
+    assert_eq!(out.status.code(), Some(1));
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        err.contains("bad.hid") && !err.contains("panicked"),
+        "{err}"
+    );
+    let _ = std::fs::remove_dir_all(dir);
+}
