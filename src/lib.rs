@@ -29,6 +29,7 @@
 //! ```
 
 pub mod bspline;
+pub mod capture;
 pub mod chain;
 pub mod cli;
 pub mod export;

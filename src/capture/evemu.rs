@@ -1,0 +1,1 @@
+//! Linux evdev recordings in the evemu format (in progress).
