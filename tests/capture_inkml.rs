@@ -377,7 +377,7 @@ fn bad_values_name_trace_point_and_position() {
         ),
         (
             "0 0 0, 1 1 1, 2 2 #ZZ",
-            (1, 2, 2, NotANumber("".to_owned())),
+            (1, 2, 2, NotANumber("#".to_owned())),
         ),
     ];
     for (data, expected) in cases {
