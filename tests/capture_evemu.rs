@@ -17,7 +17,7 @@ fn deg(v: f64) -> f64 {
 
 #[test]
 fn two_strokes_in_mm_with_carried_forward_axes_and_the_eraser_marked() {
-    let (file, stats) = evemu::read(RECORDING).unwrap();
+    let (file, stats) = evemu::read(RECORDING).expect("reads");
     assert_eq!(file.units, Units::Mm);
     assert_eq!(file.strokes.len(), 2);
     assert_eq!(stats.eraser, [false, true]);
@@ -40,7 +40,7 @@ fn two_strokes_in_mm_with_carried_forward_axes_and_the_eraser_marked() {
         for (s, &(t, x, y, p, tx)) in stroke.samples.iter().zip(expected) {
             assert_eq!(s.x, x / COUNTS_PER_MM, "{s:?}");
             assert_eq!(s.y, y / COUNTS_PER_MM, "{s:?}");
-            assert!((s.t.unwrap() - t / 1000.0).abs() < 1e-12, "{s:?}");
+            assert!((s.t.expect("present") - t / 1000.0).abs() < 1e-12, "{s:?}");
             assert_eq!(s.pressure, Some(p / PRESSURE_MAX), "{s:?}");
             assert_eq!(s.tilt_x, Some(deg(tx)), "{s:?}");
             assert_eq!(s.tilt_y, Some(deg(-5.0)), "{s:?}");
@@ -61,7 +61,7 @@ fn two_strokes_in_mm_with_carried_forward_axes_and_the_eraser_marked() {
     );
     assert!(!stats.unterminated_stroke);
     assert!(file.validate().is_ok());
-    let device = file.device.unwrap();
+    let device = file.device.expect("present");
     assert_eq!(device["name"], "Wacom Intuos Pro M Pen");
     assert_eq!(device["vendor"], 0x56a);
     assert_eq!(device["abs_x"]["resolution"], 200);
@@ -69,26 +69,31 @@ fn two_strokes_in_mm_with_carried_forward_axes_and_the_eraser_marked() {
 
 /// The fixture's header (everything before the first event).
 fn header() -> &'static str {
-    let end = RECORDING.find("\nE: ").unwrap() + 1;
+    let end = RECORDING.find("\nE: ").expect("in the fixture") + 1;
     &RECORDING[..end]
 }
 
 #[test]
 fn truncated_recording_keeps_complete_frames_and_the_open_stroke() {
     // Cut in the middle of the line after the frame at 24 ms.
-    let cut = RECORDING.find("E: 0.032000 0003 0001").unwrap() + 14;
-    let (file, stats) = evemu::read(&RECORDING[..cut]).unwrap();
+    let cut = RECORDING
+        .find("E: 0.032000 0003 0001")
+        .expect("in the fixture")
+        + 14;
+    let (file, stats) = evemu::read(&RECORDING[..cut]).expect("reads");
     assert_eq!(file.strokes.len(), 1);
     assert_eq!(file.strokes[0].samples.len(), 3);
     assert!(stats.unterminated_stroke);
     assert_eq!(stats.garbage_lines, 1);
     // Cut after a complete event but before its SYN_REPORT.
-    let cut = RECORDING.find("E: 0.032000 0003 001a").unwrap();
-    let (file, stats) = evemu::read(&RECORDING[..cut]).unwrap();
+    let cut = RECORDING
+        .find("E: 0.032000 0003 001a")
+        .expect("in the fixture");
+    let (file, stats) = evemu::read(&RECORDING[..cut]).expect("reads");
     assert_eq!(file.strokes[0].samples.len(), 3);
     assert_eq!((stats.trailing_events, stats.garbage_lines), (1, 0));
     // Only the header: no strokes, no error.
-    let (file, stats) = evemu::read(header()).unwrap();
+    let (file, stats) = evemu::read(header()).expect("reads");
     assert!(file.strokes.is_empty() && stats.events == 0);
 }
 
@@ -116,7 +121,7 @@ E: 0.010000 0000 0000 0000
 E: 0.020000 0001 014a 0000
 E: 0.020000 0000 0000 0000
 ";
-    let (file, stats) = evemu::read(&format!("{}{body}", header())).unwrap();
+    let (file, stats) = evemu::read(&format!("{}{body}", header())).expect("reads");
     assert_eq!(stats.garbage_lines, 8);
     // ABS_MT_TOUCH_MAJOR (0x30) and the unknown type 0x15.
     assert_eq!(stats.ignored_events, 2);
@@ -143,7 +148,7 @@ E: 0.010000 0000 0000 0000
 E: 0.020000 0003 0001 300
 E: 0.020000 0000 0000 0000
 ";
-    let (file, stats) = evemu::read(&format!("{}{body}", header())).unwrap();
+    let (file, stats) = evemu::read(&format!("{}{body}", header())).expect("reads");
     assert_eq!(stats.dropped_frames, 1);
     let s = &file.strokes[0].samples;
     assert_eq!(s.len(), 2);
@@ -165,7 +170,7 @@ E: 5.000000 0000 0000 0000
 E: 5.250000 0003 0000 30
 E: 5.250000 0000 0000 0000
 ";
-    let (file, stats) = evemu::read(text).unwrap();
+    let (file, stats) = evemu::read(text).expect("reads");
     assert_eq!(file.units, Units::Device);
     let s = &file.strokes[0].samples;
     assert_eq!((s[1].x, s[1].y, s[1].t), (30.0, 20.0, Some(0.25)));
@@ -187,7 +192,7 @@ E: 0.010000 0000 0000 0000
 E: 0.020000 0001 014a 0000
 E: 0.020000 0000 0000 0000
 ";
-    let (file, stats) = evemu::read(&format!("{}{body}", header())).unwrap();
+    let (file, stats) = evemu::read(&format!("{}{body}", header())).expect("reads");
     assert!(file.strokes.is_empty());
     assert_eq!(
         (stats.samples_without_position, stats.short_strokes),
@@ -217,7 +222,7 @@ E: 1.000000 0000 0000 0000
 E: 0.500000 0003 0000 200
 E: 0.500000 0000 0000 0000
 ";
-    let err = evemu::read(&format!("{}{body}", header())).unwrap_err();
+    let err = evemu::read(&format!("{}{body}", header())).expect_err("refused");
     assert!(matches!(
         err,
         EvemuError::Invalid {

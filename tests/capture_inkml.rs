@@ -34,7 +34,10 @@ fn reference_file_matches_its_decoded_csv_at_every_point() {
     );
     let mut rows = 0;
     for line in REFERENCE_CSV.lines().skip(1) {
-        let v: Vec<f64> = line.split(',').map(|f| f.parse().unwrap()).collect();
+        let v: Vec<f64> = line
+            .split(',')
+            .map(|f| f.parse().expect("a number"))
+            .collect();
         let (trace, point) = (v[0] as usize, v[1] as usize);
         let s = &file.strokes[trace].samples[point];
         let (x, y, f) = (v[2], v[3], v[4]);
@@ -61,8 +64,8 @@ fn reference_file_matches_its_decoded_csv_at_every_point() {
 
 #[test]
 fn reference_file_round_trips_through_write() {
-    let file = inkml::read(REFERENCE).unwrap();
-    assert_eq!(inkml::read(&inkml::write(&file)).unwrap(), file);
+    let file = inkml::read(REFERENCE).expect("reads");
+    assert_eq!(inkml::read(&inkml::write(&file)).expect("reads"), file);
 }
 
 /// Encodes integer channel sequences as first (`'`) or second (`"`) differences, prefixing
@@ -112,9 +115,9 @@ fn planted() -> Vec<[i64; 3]> {
 
 fn decoded_ints(text: &str) -> Vec<[i64; 3]> {
     decode_trace(text, &["X", "Y", "F"])
-        .unwrap()
+        .expect("present")
         .iter()
-        .map(|p| [0, 1, 2].map(|c| p[c].unwrap() as i64))
+        .map(|p| [0, 1, 2].map(|c| p[c].expect("present") as i64))
         .collect()
 }
 
@@ -137,8 +140,11 @@ fn second_differences_decode_to_planted_values() {
 #[test]
 fn w3c_example_and_sign_separated_values() {
     // The example of the InkML specification: velocity then acceleration, sticky modes.
-    let p = decode_trace("1125 18432,'23'43,\"7\"-8,3-5", &["X", "Y"]).unwrap();
-    let xy: Vec<(f64, f64)> = p.iter().map(|p| (p[0].unwrap(), p[1].unwrap())).collect();
+    let p = decode_trace("1125 18432,'23'43,\"7\"-8,3-5", &["X", "Y"]).expect("decodes");
+    let xy: Vec<(f64, f64)> = p
+        .iter()
+        .map(|p| (p[0].expect("present"), p[1].expect("present")))
+        .collect();
     assert_eq!(
         xy,
         [
@@ -150,7 +156,7 @@ fn w3c_example_and_sign_separated_values() {
     );
     // `!` returns to explicit values; decimals run together; hex; booleans; exponents; `?`
     // unknown; `*` repeats the previous value.
-    let p = decode_trace("1 2, '1 !7, !1.5.25, #1F T, -2e1 F, ? *", &["A", "B"]).unwrap();
+    let p = decode_trace("1 2, '1 !7, !1.5.25, #1F T, -2e1 F, ? *", &["A", "B"]).expect("decodes");
     let expected = [
         [Some(1.0), Some(2.0)],
         [Some(2.0), Some(7.0)],
@@ -164,12 +170,13 @@ fn w3c_example_and_sign_separated_values() {
 
 #[test]
 fn hand_written_fixture_decodes_to_planted_values() {
-    let file = inkml::read(DIFFERENCES).unwrap();
+    let file = inkml::read(DIFFERENCES).expect("reads");
     assert_eq!(file.units, Units::Mm);
     assert_eq!(file.strokes.len(), 2);
     let deg = |rad: f64| rad * 180.0 / std::f64::consts::PI;
     // (X, Y) in himetric, T in ms, F of 1023, tilt in rad.
-    let expected: [(f64, f64, f64, Option<f64>, Option<f64>, Option<f64>); 5] = [
+    type Row = (f64, f64, f64, Option<f64>, Option<f64>, Option<f64>);
+    let expected: [Row; 5] = [
         (1000.0, 2000.0, 0.0, Some(512.0), Some(0.1), Some(-0.2)),
         (1010.0, 2000.0, 8.0, Some(524.0), None, None),
         (1022.0, 2005.0, 16.0, Some(534.0), Some(0.15), Some(-0.2)),
@@ -180,7 +187,7 @@ fn hand_written_fixture_decodes_to_planted_values() {
     assert_eq!(samples.len(), expected.len());
     for (s, &(x, y, t, f, tx, ty)) in samples.iter().zip(&expected) {
         assert!(close(s.x, x * 0.01) && close(s.y, y * 0.01), "{s:?}");
-        assert!(close(s.t.unwrap(), t * 1e-3), "{s:?}");
+        assert!(close(s.t.expect("present"), t * 1e-3), "{s:?}");
         assert_eq!(s.pressure.is_some(), f.is_some());
         if let (Some(p), Some(f)) = (s.pressure, f) {
             assert!(close(p, f / 1023.0), "{s:?}");
@@ -205,7 +212,7 @@ fn sample(x: f64, y: f64) -> Sample {
 fn every_stroke_fixture_round_trips_exactly() {
     for name in common::fixture_names() {
         let file = common::fixture(&name);
-        let again = inkml::read(&inkml::write(&file)).unwrap();
+        let again = inkml::read(&inkml::write(&file)).expect("reads");
         assert_eq!(again, file, "{name}");
     }
 }
@@ -242,7 +249,7 @@ fn awkward_numbers_units_and_provenance_round_trip_bit_for_bit() {
         file.source = Some("a <tricky> & \"quoted\" 'source'\r\nline two\tend".to_owned());
         file.device = Some(serde_json::json!({"name": "Wacom <Intuos>", "lpmm": 200}));
         let text = inkml::write(&file);
-        let again = inkml::read(&text).unwrap();
+        let again = inkml::read(&text).expect("reads");
         assert_eq!(again, file, "{units:?}");
         for (a, b) in again.strokes[0].samples.iter().zip(&samples) {
             assert_eq!(a.x.to_bits(), b.x.to_bits());
@@ -261,7 +268,7 @@ fn channel_and_resolution_units_convert_to_mm() {
         )
     };
     let end = |text: String| {
-        let f = inkml::read(&text).unwrap();
+        let f = inkml::read(&text).expect("reads");
         let s = f.strokes[0].samples[1];
         (f.units, s.x, s.y)
     };
@@ -274,7 +281,7 @@ fn channel_and_resolution_units_convert_to_mm() {
                  <channelProperty channel="Y" name="resolution" value="0.5" units="1/cm"/>"#;
     assert_eq!(end(doc("dev", res)), (Units::Mm, 1.0, 80.0));
     // No trace format at all: the InkML default X Y, device units.
-    let f = inkml::read("<ink><trace>1 2, 3 4</trace></ink>").unwrap();
+    let f = inkml::read("<ink><trace>1 2, 3 4</trace></ink>").expect("reads");
     assert_eq!(f.units, Units::Device);
     assert_eq!(f.strokes[0].samples[1], sample(3.0, 4.0));
 }
@@ -283,7 +290,7 @@ fn channel_and_resolution_units_convert_to_mm() {
 fn taps_are_skipped() {
     let f =
         inkml::read("<ink><trace>1 2</trace><trace>5 5, 5 5</trace><trace>1 2, 3 4</trace></ink>")
-            .unwrap();
+            .expect("present");
     assert_eq!(f.strokes.len(), 1);
 }
 
@@ -294,7 +301,10 @@ fn error(text: &str) -> InkmlError {
     }
 }
 
-fn value_error(trace_data: &str) -> (usize, usize, usize, ValueProblem) {
+/// Trace index, point index, value position, and the problem.
+type Located = (usize, usize, usize, ValueProblem);
+
+fn value_error(trace_data: &str) -> Located {
     let text = format!(
         r##"<ink><traceFormat><channel name="X"/><channel name="Y"/><channel name="F" max="100"/></traceFormat>
         <trace>0 0 0, 1 1 1</trace><trace>{trace_data}</trace></ink>"##
@@ -314,7 +324,7 @@ fn value_error(trace_data: &str) -> (usize, usize, usize, ValueProblem) {
 #[test]
 fn bad_values_name_trace_point_and_position() {
     use ValueProblem::*;
-    let cases: Vec<(&str, (usize, usize, usize, ValueProblem))> = vec![
+    let cases: Vec<(&str, Located)> = vec![
         ("0 0 0, 1 x 1", (1, 1, 1, UnexpectedChar('x'))),
         ("0 0 0, 1 NaN 1", (1, 1, 1, UnexpectedChar('N'))),
         ("0 0 0, 1 1 -", (1, 1, 2, NotANumber("-".to_owned()))),

@@ -633,6 +633,9 @@ fn parse_format(trace_format: &Node, ink_source: Option<&Node>) -> Result<Format
     Ok(Format { channels, regular })
 }
 
+/// A context's `<traceFormat>` and `<inkSource>`, when it has them.
+type ContextParts<'a, 'i> = (Option<Node<'a, 'i>>, Option<Node<'a, 'i>>);
+
 /// The document's elements by id, and the lookups that follow references.
 struct Definitions<'a, 'i> {
     by_id: HashMap<&'a str, Node<'a, 'i>>,
@@ -651,13 +654,12 @@ impl<'a, 'i> Definitions<'a, 'i> {
     }
 
     /// The `<traceFormat>` and `<inkSource>` a context provides, following its references.
-    #[allow(clippy::type_complexity)]
     fn context_parts(
         &self,
         trace: usize,
         context: Node<'a, 'i>,
         depth: usize,
-    ) -> Result<(Option<Node<'a, 'i>>, Option<Node<'a, 'i>>), InkmlError> {
+    ) -> Result<ContextParts<'a, 'i>, InkmlError> {
         if depth > MAX_CONTEXT_DEPTH {
             return Err(InkmlError::BadReference {
                 trace,
