@@ -232,3 +232,37 @@ E: 0.500000 0000 0000 0000
     ));
     assert!(err.to_string().starts_with("stroke 0: "), "{err}");
 }
+
+/// Characters that matter to the evemu line grammar.
+const MUTATIONS: &[u8] = b"0123456789abcdef-:. #\nEAx";
+
+#[test]
+fn mutated_and_truncated_recording_never_panics_and_what_is_accepted_is_valid() {
+    let mut state = 0x2545_f491_4f6c_dd1d_u64;
+    let mut next = move |n: usize| {
+        // xorshift64: a fixed, dependency-free sequence.
+        state ^= state << 13;
+        state ^= state >> 7;
+        state ^= state << 17;
+        (state % n as u64) as usize
+    };
+    let mut accepted = 0;
+    for round in 0..1500 {
+        let mut text = RECORDING.as_bytes().to_vec();
+        let at = next(text.len());
+        if round % 3 == 0 {
+            text.truncate(at);
+        } else if text[at].is_ascii() {
+            text[at] = MUTATIONS[next(MUTATIONS.len())];
+        }
+        let Ok(text) = String::from_utf8(text) else {
+            continue;
+        };
+        if let Ok((file, stats)) = evemu::read(&text) {
+            assert!(file.validate().is_ok());
+            assert_eq!(stats.eraser.len(), file.strokes.len());
+            accepted += 1;
+        }
+    }
+    assert!(accepted > 1000, "{accepted}");
+}

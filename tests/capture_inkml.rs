@@ -476,3 +476,42 @@ fn bad_documents_are_refused_with_clear_errors() {
         InkmlError::MixedUnits { trace: 1, .. }
     ));
 }
+
+#[test]
+fn value_errors_carry_the_byte_offset() {
+    let text = r#"<ink><traceFormat><channel name="X"/><channel name="Y"/><channel name="F" max="100"/></traceFormat><trace>0 0 0, 1 1 101</trace></ink>"#;
+    match error(text) {
+        InkmlError::Value {
+            offset, channel, ..
+        } => assert_eq!((offset, channel.as_str()), (11, "F")),
+        other => panic!("{other:?}"),
+    }
+}
+
+/// Characters that matter to the trace grammar and to XML.
+const MUTATIONS: &[u8] = b"0123456789-+'\"!?*,. #eETFx<>&/";
+
+#[test]
+fn mutated_and_truncated_reference_never_panics_and_what_is_accepted_is_valid() {
+    let mut rng = common::Rng::new(11);
+    let bytes = REFERENCE.as_bytes();
+    let mut accepted = 0;
+    for round in 0..1500 {
+        let mut text = bytes.to_vec();
+        let at = (rng.uniform() * text.len() as f64) as usize;
+        if round % 3 == 0 {
+            text.truncate(at);
+        } else if text[at].is_ascii() {
+            text[at] = MUTATIONS[(rng.uniform() * MUTATIONS.len() as f64) as usize];
+        }
+        let Ok(text) = String::from_utf8(text) else {
+            continue;
+        };
+        if let Ok(file) = inkml::read(&text) {
+            assert!(file.validate().is_ok());
+            accepted += 1;
+        }
+    }
+    // Most single-character changes inside trace data still decode (to different ink).
+    assert!(accepted > 100, "{accepted}");
+}

@@ -272,14 +272,21 @@ enum Token {
 ///
 /// ```
 /// use kansei::capture::inkml::decode_trace;
-/// let points = decode_trace("10 5,'2'-1,\"1\"0, 4 4", &["X", "Y"]).unwrap();
+/// let points = decode_trace("10 5,'2'-1,\"1\"0, !4 !4", &["X", "Y"]).unwrap();
 /// let xs: Vec<f64> = points.iter().map(|p| p[0].unwrap()).collect();
 /// assert_eq!(xs, [10.0, 12.0, 15.0, 4.0]);
 /// ```
 pub fn decode_trace(data: &str, channels: &[&str]) -> Result<Vec<Vec<Option<f64>>>, InkmlError> {
     let names: Vec<String> = channels.iter().map(|s| (*s).to_owned()).collect();
-    decode(0, data, &names, names.len())
+    let points = decode(0, data, &names, names.len())?;
+    Ok(points
+        .into_iter()
+        .map(|p| p.into_iter().map(|(v, _)| v).collect())
+        .collect())
 }
+
+/// A decoded value and its byte offset in the trace's text.
+type Located = (Option<f64>, usize);
 
 /// Decodes trace data; `names` lists all channels, the first `regular` of them regular.
 fn decode(
@@ -287,11 +294,11 @@ fn decode(
     data: &str,
     names: &[String],
     regular: usize,
-) -> Result<Vec<Vec<Option<f64>>>, InkmlError> {
+) -> Result<Vec<Vec<Located>>, InkmlError> {
     let total = names.len();
     let bytes = data.as_bytes();
-    let mut points: Vec<Vec<Option<f64>>> = Vec::new();
-    let mut current: Vec<Option<f64>> = Vec::with_capacity(total);
+    let mut points: Vec<Vec<Located>> = Vec::new();
+    let mut current: Vec<Located> = Vec::with_capacity(total);
     let mut states = vec![ChannelState::default(); total];
     let mut pending: Option<(Mode, usize)> = None;
     let error = |point: usize, value: usize, offset: usize, problem: ValueProblem| {
@@ -305,8 +312,8 @@ fn decode(
             problem,
         }
     };
-    let finish = |points: &mut Vec<Vec<Option<f64>>>,
-                  current: &mut Vec<Option<f64>>,
+    let finish = |points: &mut Vec<Vec<Located>>,
+                  current: &mut Vec<Located>,
                   offset: usize|
      -> Result<(), InkmlError> {
         if current.len() < regular {
@@ -320,7 +327,7 @@ fn decode(
                 },
             ));
         }
-        current.resize(total, None);
+        current.resize(total, (None, offset));
         points.push(std::mem::take(current));
         Ok(())
     };
@@ -377,7 +384,7 @@ fn decode(
                 }
                 let decoded =
                     apply(state, token).map_err(|problem| error(point, value, start, problem))?;
-                current.push(decoded);
+                current.push((decoded, start));
                 i = next;
             }
         }
@@ -919,7 +926,7 @@ pub fn read(text: &str) -> Result<StrokeFile, InkmlError> {
 fn to_sample(
     trace: usize,
     point: usize,
-    values: &[Option<f64>],
+    values: &[Located],
     plan: &Plan,
     names: &[String],
 ) -> Result<Sample, InkmlError> {
@@ -928,10 +935,10 @@ fn to_sample(
         point,
         value,
         channel: names.get(value).cloned().unwrap_or_default(),
-        offset: 0,
+        offset: values.get(value).map_or(0, |&(_, at)| at),
         problem,
     };
-    let get = |i: usize| values.get(i).copied().flatten();
+    let get = |i: usize| values.get(i).and_then(|&(v, _)| v);
     let (Some(x), Some(y)) = (get(plan.x), get(plan.y)) else {
         let which = if get(plan.x).is_none() {
             plan.x
