@@ -195,8 +195,8 @@ pub fn run(cli: Cli, out: &mut dyn std::io::Write) -> Result<(), CliError> {
     }
 }
 
-/// Reads and validates strokes from any supported file, chosen by extension: `kansei-stroke`
-/// JSON (anything else), hid-recorder `.hid`.
+/// Reads and validates strokes from any supported file, chosen by extension: hid-recorder
+/// `.hid`, W3C `.inkml`, evemu `.events`/`.evemu`, and `kansei-stroke` JSON (anything else).
 pub fn read_strokes(path: &Path) -> Result<StrokeFile, CliError> {
     let text = std::fs::read_to_string(path).map_err(|source| CliError::Io {
         path: path.to_owned(),
@@ -222,6 +222,16 @@ pub fn read_strokes(path: &Path) -> Result<StrokeFile, CliError> {
                 for (line, error) in stats.first_decode_errors.iter().take(3) {
                     eprintln!("  line {line}: {error}");
                 }
+            }
+            Ok(file)
+        }
+        Some("inkml") => crate::capture::inkml::read(&text).map_err(|e| capture(e.to_string())),
+        Some("events") | Some("evemu") => {
+            let (file, stats) =
+                crate::capture::evemu::read(&text).map_err(|e| capture(e.to_string()))?;
+            let erasers = stats.eraser.iter().filter(|&&e| e).count();
+            if erasers > 0 {
+                eprintln!("note: {}: {erasers} eraser strokes", path.display());
             }
             Ok(file)
         }

@@ -221,3 +221,24 @@ fn a_recording_replays_and_fits_end_to_end() {
     );
     let _ = std::fs::remove_dir_all(dir);
 }
+
+#[test]
+fn inkml_and_evemu_recordings_fit_directly() {
+    for (name, units) in [
+        ("inkml/reference.inkml", "mm"),
+        ("evemu/pen-two-strokes.evemu", "mm"),
+    ] {
+        let path = format!("{}/fixtures/{name}", env!("CARGO_MANIFEST_DIR"));
+        let out = kansei().args(["fit", &path]).output().expect("runs");
+        assert!(
+            out.status.success(),
+            "{name}: {}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+        let doc = kansei::export::CurveFile::from_json(&String::from_utf8_lossy(&out.stdout))
+            .expect("valid");
+        assert_eq!(doc.units.name(), units);
+        assert!(!doc.curves.is_empty(), "{name}");
+        assert!(doc.curves.iter().all(|c| !c.segments.is_empty()), "{name}");
+    }
+}

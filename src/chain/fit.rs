@@ -18,6 +18,10 @@ const CHORD_ERROR_FRACTION: f64 = 1e-3;
 /// take the segment's evaluation past the accuracy its record promises.
 const MIN_RADIUS_FRACTION: f64 = 1e-2;
 
+/// Joints closer than this fraction of the tolerance coincide: a segment between them has no
+/// length to speak of (and none that the data could resolve).
+const COINCIDENT_JOINT_FRACTION: f64 = 1e-6;
+
 /// A span holding fewer samples than this is fitted against points of its B-spline instead
 /// (evenly spaced in the parameter): with one or two samples the α search has nothing to choose
 /// by, and a short span's shape is the B-spline's anyway.
@@ -395,8 +399,14 @@ impl<'a> Fitter<'a> {
                 )
             };
             let mid = self.joint_at(um, JointKind::Subdivision);
-            let (first, second) = (held[..median].to_vec(), held[median..].to_vec());
             let (a, b) = (state.joints[k], state.joints[k + 1]);
+            // A cut on top of an existing joint would make a segment of no length.
+            let apart = COINCIDENT_JOINT_FRACTION * self.tolerance;
+            if mid.p.distance(a.p) <= apart || mid.p.distance(b.p) <= apart {
+                k += 1;
+                continue;
+            }
+            let (first, second) = (held[..median].to_vec(), held[median..].to_vec());
             let parent = state.alphas[k];
             let searched = |x: &Joint, y: &Joint, s: &[usize]| {
                 if s.len() >= MIN_SPAN_SAMPLES {
@@ -473,6 +483,21 @@ impl<'a> Fitter<'a> {
                 state.alphas[k] = fit.segment.alpha().unwrap_or(middle);
                 searches[k] = fit.search;
                 k += 1;
+                continue;
+            }
+            if a.p.distance(b.p) <= COINCIDENT_JOINT_FRACTION * self.tolerance && state.len() > 1 {
+                // A segment of no length: drop it and one of its joints (the chain's last joint
+                // is kept: it is the piece's end). The segment after it is rebuilt from the
+                // surviving joint, so the chain stays G1.
+                let drop = if k + 1 == state.len() { k } else { k + 1 };
+                state.joints.remove(drop);
+                let samples = state.samples.remove(k);
+                state.alphas.remove(k);
+                searches.remove(k);
+                let into = k.min(state.len() - 1);
+                state.samples[into].extend(samples);
+                let params = self.input.params;
+                state.samples[into].sort_by(|&x, &y| params[x].total_cmp(&params[y]));
                 continue;
             }
             let [s0, s1] =
