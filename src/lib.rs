@@ -1,14 +1,17 @@
 //! # kansei: pen strokes to log-aesthetic curves
 //!
 //! The pipeline (Miura et al., "Input of log-aesthetic curves with a pen tablet"):
-//! 1. [`stroke`]: samples (x, y, time, pressure, tilt), read from `kansei-stroke` JSON.
-//! 2. [`prepare`]: duplicates merged, the stroke cut at corners, the pen's hooks dropped.
+//! 1. [`stroke`]: samples (x, y, time, pressure, tilt), read from `kansei-stroke` JSON or, through
+//!    [`capture`], from HID recordings (decoded from the device's report descriptor), evemu and
+//!    InkML.
+//! 2. [`prepare`]: duplicates merged, the pen's dwell and hooks dropped, the stroke cut at corners.
 //! 3. [`bspline`]: least-squares cubic B-spline, segments added until every sample is within the
-//!    tolerance of the curve.
+//!    tolerance of the curve, then faired.
 //! 4. [`split`]: Bézier pieces split at inflections and curvature extrema into spans of
 //!    monotonic curvature.
-//! 5. [`lac`]: one log-aesthetic curve segment per span, a G1 chain.
-//! 6. [`export`]: `kansei-curve` JSON.
+//! 5. [`chain`]: one log-aesthetic segment ([`lac`]) per span with the best α, refined
+//!    (Levenberg–Marquardt) into a G1 chain within the tolerance.
+//! 6. [`export`]: `kansei-curve` JSON and a quick-look SVG.
 //!
 //! [`pipeline`] composes the stages; [`cli`] is the command line.
 //!

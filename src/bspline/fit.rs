@@ -45,7 +45,7 @@ pub struct FitOptions {
     /// Sample weighting. Default [`Weighting::ArcLength`].
     pub weighting: Weighting,
     /// Fairing. Default true: once the fewest segments are known, the curve is refitted with
-    /// [`FAIRING_SEGMENT_FACTOR`] times as many and the largest penalty on the jumps of C‴ at
+    /// `FAIRING_SEGMENT_FACTOR` (2) times as many and the largest penalty on the jumps of C‴ at
     /// the knots that keeps every sample within the tolerance. A plain least-squares spline with just enough segments
     /// meets the tolerance with a curvature that wobbles around the drawn one, and every wobble
     /// is a spurious curvature extremum; the fairest curve within the tolerance has only the

@@ -36,7 +36,7 @@
 //!
 //! # Writing
 //!
-//! [`write`] emits one context whose trace format holds `X`, `Y` and, when any sample has
+//! [`write()`] emits one context whose trace format holds `X`, `Y` and, when any sample has
 //! them, `T` (seconds), `F` (`min="0" max="1"`), `OTx`, `OTy` (degrees); a sample lacking an
 //! optional field writes `?`. Numbers use Rust's shortest round-trip formatting, so reading
 //! the output gives back the input exactly. The file's `source` and `device` travel in
@@ -50,7 +50,7 @@ use thiserror::Error;
 
 use crate::stroke::{Sample, Stroke, StrokeError, StrokeFile, Units};
 
-/// The InkML namespace, written on the root of [`write`]'s output. Reading accepts any namespace.
+/// The InkML namespace, written on the root of [`write()`]'s output. Reading accepts any namespace.
 pub const INKML_NAMESPACE: &str = "http://www.w3.org/2003/InkML";
 
 /// The namespace of the `xml:` prefix, for `xml:id`.

@@ -2,7 +2,7 @@
 //! samples lie closest to it.
 //!
 //! The objective is the root mean square foot-point distance of the span's samples to the
-//! segment ([`super::deviation`]); α values whose segment cannot join the data (outside the
+//! segment ([`mod@super::deviation`]); α values whose segment cannot join the data (outside the
 //! drawable region) score +∞. A grid over the allowed range ([`GRID_STEP`]) finds the best cell
 //! (the objective is not unimodal over the whole range: the drawable region can end inside it),
 //! then Brent's method ([`super::minimize::brent`]) minimises continuously on the two cells around

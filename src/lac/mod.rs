@@ -14,8 +14,8 @@
 //!   including the rendering fast path [`LacSegment::samples`].
 //! * [`yoshida_saito`]: the segment of a given α joining G1 end data ([`fit_g1`]).
 //! * [`alpha_search`]: the best α for a span (grid, then Brent), [`fit_span`].
-//! * [`biarc`]: two circular arcs joining G1 data, the fallback where no LAC can.
-//! * [`deviation`]: distances from a span's samples to a segment.
+//! * [`mod@biarc`]: two circular arcs joining G1 data, the fallback where no LAC can.
+//! * [`mod@deviation`]: distances from a span's samples to a segment.
 //! * [`minimize`]: Brent's scalar minimisation (the α search).
 //! * [`lcg`]: the logarithmic curvature graph of a segment or of a span of Béziers, and its
 //!   least-squares slope.
