@@ -226,6 +226,9 @@ pub fn read_strokes(path: &Path) -> Result<StrokeFile, CliError> {
             Ok(file)
         }
         Some("inkml") => crate::capture::inkml::read(&text).map_err(|e| capture(e.to_string())),
+        Some("ndjson") => {
+            crate::capture::quickdraw::read(&text).map_err(|e| capture(e.to_string()))
+        }
         Some("events") | Some("evemu") => {
             let (file, stats) =
                 crate::capture::evemu::read(&text).map_err(|e| capture(e.to_string()))?;

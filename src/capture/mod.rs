@@ -9,10 +9,12 @@
 //! - [`replay`]: a recording through the decoder and the builder into a `kansei-stroke` file.
 //! - [`evemu`]: Linux evdev recordings in the `evemu-record` text format.
 //! - [`inkml`]: W3C InkML (read, with the compact difference encodings; and write).
+//! - [`quickdraw`]: Google QuickDraw drawings (`.ndjson`).
 
 pub mod evemu;
 pub mod hid;
 pub mod inkml;
+pub mod quickdraw;
 pub mod recorder;
 pub mod replay;
 pub mod stroke_builder;
