@@ -92,9 +92,9 @@ fn info_of(node: &Path, dev: &evdev::Device, axes: &EvdevAxes) -> DeviceInfo {
 /// Whether sysfs says the event node `name` (`event7`) has `BTN_TOOL_PEN`: the `key` capability
 /// is a bitmap in hex words, most significant first, of the platform's `long` (64 bits here).
 fn sysfs_has_pen(name: &str) -> bool {
-    let Ok(text) = std::fs::read_to_string(format!(
-        "/sys/class/input/{name}/device/capabilities/key"
-    )) else {
+    let Ok(text) =
+        std::fs::read_to_string(format!("/sys/class/input/{name}/device/capabilities/key"))
+    else {
         return false;
     };
     let words: Vec<u64> = text
@@ -103,7 +103,9 @@ fn sysfs_has_pen(name: &str) -> bool {
         .filter_map(|w| u64::from_str_radix(w, 16).ok())
         .collect();
     let bit = usize::from(BTN_TOOL_PEN);
-    words.get(bit / 64).is_some_and(|w| w >> (bit % 64) & 1 == 1)
+    words
+        .get(bit / 64)
+        .is_some_and(|w| w >> (bit % 64) & 1 == 1)
 }
 
 fn sysfs_name(name: &str) -> Option<String> {
@@ -127,7 +129,9 @@ pub fn list() -> Vec<EvdevTablet> {
         .collect();
     nodes.sort_by_key(|p| {
         let n = p.file_name().and_then(|n| n.to_str()).unwrap_or("");
-        n.trim_start_matches("event").parse::<u32>().unwrap_or(u32::MAX)
+        n.trim_start_matches("event")
+            .parse::<u32>()
+            .unwrap_or(u32::MAX)
     });
     let mut out = Vec::new();
     for node in nodes {
@@ -147,10 +151,7 @@ pub fn list() -> Vec<EvdevTablet> {
                 }
             }
             Err(e) if sysfs_has_pen(&name) => {
-                let reason = format!(
-                    "no access: {e} (errno {})",
-                    e.raw_os_error().unwrap_or(0)
-                );
+                let reason = format!("no access: {e} (errno {})", e.raw_os_error().unwrap_or(0));
                 out.push(EvdevTablet {
                     info: DeviceInfo {
                         interface: Interface::Evdev,
@@ -242,9 +243,7 @@ impl PenSource for LiveEvdev {
             for event in events {
                 let stamp = event.timestamp();
                 let first = *self.first.get_or_insert(stamp);
-                let t = stamp
-                    .duration_since(first)
-                    .map_or(0.0, |d| d.as_secs_f64());
+                let t = stamp.duration_since(first).map_or(0.0, |d| d.as_secs_f64());
                 if let Some(report) =
                     self.pen
                         .event(event.event_type().0, event.code(), event.value())

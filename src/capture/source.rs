@@ -20,7 +20,8 @@ use crate::stroke::Units;
 pub const UDEV_RULE_HIDRAW: &str =
     r#"SUBSYSTEM=="hidraw", ATTRS{idVendor}=="056a", MODE="0660", TAG+="uaccess""#;
 /// A udev rule giving the logged-in user access to every tablet's evdev node.
-pub const UDEV_RULE_INPUT: &str = r#"SUBSYSTEM=="input", ENV{ID_INPUT_TABLET}=="1", TAG+="uaccess""#;
+pub const UDEV_RULE_INPUT: &str =
+    r#"SUBSYSTEM=="input", ENV{ID_INPUT_TABLET}=="1", TAG+="uaccess""#;
 
 /// How to install the rules, printed after a permission error.
 pub fn udev_help(vendor: Option<u16>) -> String {

@@ -175,7 +175,9 @@ impl RawWriter {
 
     fn write_line(&mut self, text: &str) -> Result<(), WriteError> {
         let path = &self.path;
-        self.out.write_all(text.as_bytes()).map_err(io_error(path))?;
+        self.out
+            .write_all(text.as_bytes())
+            .map_err(io_error(path))?;
         self.out.flush().map_err(io_error(path))
     }
 }
