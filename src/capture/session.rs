@@ -8,7 +8,7 @@
 //! feeding the whole stream to one builder ([`crate::capture::replay`]).
 //!
 //! The loop stops at the end of the source, when `stop` is set (Ctrl-C), when the duration is
-//! reached (by report time, or by wall-clock time while the source is idle), or when the source
+//! reached (by report time or by wall-clock time since the loop started, whichever comes first), or when the source
 //! fails (an unplugged tablet). In every case but the end of a recording, the stroke in progress
 //! is written after the finished ones ([`StrokeWriter::save_with_partial`]), if it has two
 //! distinct positions.
@@ -55,7 +55,7 @@ pub struct CaptureSummary {
 /// Stop conditions of [`run_capture`].
 #[derive(Clone, Copy, Debug, Default)]
 pub struct CaptureLimits {
-    /// Stop after this many seconds (report time, or wall clock while idle).
+    /// Stop after this many seconds (report time or wall clock, whichever reaches it first).
     pub duration: Option<f64>,
 }
 
@@ -135,7 +135,7 @@ pub fn run_capture(
             Ok(Next::End) => break EndReason::SourceEnded,
             Err(e) => break EndReason::SourceError(e),
         };
-        if over(event.t) {
+        if over(event.t) || over(started.elapsed().as_secs_f64()) {
             break EndReason::Duration;
         }
         summary.reports += 1;
