@@ -30,6 +30,34 @@ pub enum Command {
     Bench(BenchArgs),
     /// Convert a recording (hid-recorder `.hid`, or any input `fit` reads) to kansei-stroke JSON.
     Replay(ReplayArgs),
+    /// List pen tablets (hidraw and evdev): IDs, size, pressure levels, tilt, access.
+    Devices,
+    /// Capture strokes from a tablet into kansei-stroke JSON, each stroke written as it ends.
+    Capture(CaptureArgs),
+}
+
+/// `kansei capture`.
+#[derive(Debug, Args)]
+pub struct CaptureArgs {
+    /// The tablet's node as `kansei devices` lists it (`/dev/hidraw3`, `/dev/input/event7`)
+    /// [default: the first HID tablet, else the first evdev tablet].
+    #[arg(long)]
+    pub device: Option<String>,
+    /// Where to write the kansei-stroke JSON (rewritten atomically after every stroke).
+    #[arg(long)]
+    pub out: PathBuf,
+    /// Also record the raw HID reports here, in hid-recorder format (HID tablets only).
+    #[arg(long)]
+    pub raw: Option<PathBuf>,
+    /// Stop after this many seconds [default: until Ctrl-C or the tablet is unplugged].
+    #[arg(long)]
+    pub duration: Option<f64>,
+    /// Testing: capture from a hid-recorder recording instead of a tablet.
+    #[arg(long, hide = true, conflicts_with = "device")]
+    pub from_recording: Option<PathBuf>,
+    /// Testing: with --from-recording, fail after this many reports as an unplugged tablet.
+    #[arg(long, hide = true, requires = "from_recording")]
+    pub fail_after_reports: Option<usize>,
 }
 
 /// `kansei replay`.
@@ -192,8 +220,233 @@ pub fn run(cli: Cli, out: &mut dyn std::io::Write) -> Result<(), CliError> {
                 source,
             })
         }
+        Command::Devices => devices(out),
+        Command::Capture(args) => capture(&args, out),
     }
 }
+
+fn stdout_error(source: std::io::Error) -> CliError {
+    CliError::Io {
+        path: "<stdout>".into(),
+        source,
+    }
+}
+
+/// `kansei devices`: every tablet, or a sentence saying there is none (not an error).
+#[cfg(feature = "live")]
+fn devices(out: &mut dyn std::io::Write) -> Result<(), CliError> {
+    use crate::capture::{live_evdev, live_hid};
+    let hid = live_hid::list();
+    let evdev = live_evdev::list();
+    if hid.is_empty() && evdev.is_empty() {
+        writeln!(
+            out,
+            "no pen tablets found (looked for HID digitizers in /dev/hidraw* and evdev devices \
+             with ABS_X, ABS_Y and BTN_TOOL_PEN in /dev/input)"
+        )
+        .map_err(stdout_error)?;
+        return Ok(());
+    }
+    let mut denied = None;
+    let rows = (hid.iter().map(|t| (&t.info, &t.access)))
+        .chain(evdev.iter().map(|t| (&t.info, &t.access)));
+    for (info, access) in rows {
+        writeln!(out, "{}", info.summary()).map_err(stdout_error)?;
+        if let Err(reason) = access {
+            writeln!(out, "    {reason}").map_err(stdout_error)?;
+            denied = Some(info.vendor_id);
+        }
+    }
+    if let Some(vendor) = denied {
+        writeln!(out, "{}", crate::capture::source::udev_help(vendor)).map_err(stdout_error)?;
+    }
+    Ok(())
+}
+
+/// `kansei devices` without the `live` feature.
+#[cfg(not(feature = "live"))]
+fn devices(out: &mut dyn std::io::Write) -> Result<(), CliError> {
+    writeln!(
+        out,
+        "no pen tablets found: kansei was built without the `live` feature (no device access)"
+    )
+    .map_err(stdout_error)
+}
+
+/// Opens the tablet `--device` names, or the first one found.
+#[cfg(feature = "live")]
+fn open_live(device: Option<&str>) -> Result<Box<dyn crate::capture::source::PenSource>, CliError> {
+    use crate::capture::source::SourceError;
+    use crate::capture::{live_evdev, live_hid};
+    let source_error = |e: SourceError| CliError::Capture {
+        path: device.unwrap_or("tablet").into(),
+        message: e.to_string(),
+    };
+    if device.is_none_or(|d| d.contains("hidraw")) {
+        let hid = live_hid::list();
+        if let Some(t) = hid
+            .iter()
+            .find(|t| device.is_none_or(|d| t.info.node.as_deref() == Some(d)))
+        {
+            return Ok(Box::new(live_hid::LiveHid::open(t).map_err(source_error)?));
+        }
+    }
+    match device {
+        Some(d) if !d.contains("hidraw") => Ok(Box::new(
+            live_evdev::LiveEvdev::open(Path::new(d)).map_err(source_error)?,
+        )),
+        Some(d) => Err(source_error(SourceError::NotFound(format!(
+            "{d}: not a HID pen tablet (see `kansei devices`)"
+        )))),
+        None => {
+            let evdev = live_evdev::list();
+            let Some(t) = evdev.first() else {
+                return Err(source_error(SourceError::NotFound(
+                    "no pen tablet found (see `kansei devices`)".into(),
+                )));
+            };
+            let node = t.info.node.clone().unwrap_or_default();
+            Ok(Box::new(
+                live_evdev::LiveEvdev::open(Path::new(&node)).map_err(source_error)?,
+            ))
+        }
+    }
+}
+
+/// Without the `live` feature there is no device to open.
+#[cfg(not(feature = "live"))]
+fn open_live(
+    _device: Option<&str>,
+) -> Result<Box<dyn crate::capture::source::PenSource>, CliError> {
+    Err(CliError::Usage(
+        "kansei was built without the `live` feature: no tablet access".into(),
+    ))
+}
+
+/// Set by the Ctrl-C handler; the capture loop polls it at least every 0.1 s.
+static STOP: std::sync::atomic::AtomicBool = std::sync::atomic::AtomicBool::new(false);
+
+/// `kansei capture`.
+fn capture(args: &CaptureArgs, out: &mut dyn std::io::Write) -> Result<(), CliError> {
+    use crate::capture::session::{CaptureLimits, EndReason, run_capture};
+    use crate::capture::source::RecordingSource;
+    use crate::capture::writer::{RawWriter, StrokeWriter};
+    if let Some(d) = args.duration
+        && !(d.is_finite() && d > 0.0)
+    {
+        return Err(CliError::Usage(format!(
+            "--duration must be a positive number of seconds, got {d}"
+        )));
+    }
+    let mut source: Box<dyn crate::capture::source::PenSource> = match &args.from_recording {
+        Some(path) => {
+            let text = std::fs::read_to_string(path).map_err(|source| CliError::Io {
+                path: path.clone(),
+                source,
+            })?;
+            let capture_error = |message: String| CliError::Capture {
+                path: path.clone(),
+                message,
+            };
+            let recording = crate::capture::recorder::Recording::parse(&text)
+                .map_err(|e| capture_error(e.to_string()))?;
+            let mut s = RecordingSource::new(recording, &path.display().to_string())
+                .map_err(|e| capture_error(e.to_string()))?;
+            if let Some(n) = args.fail_after_reports {
+                s = s.fail_after(n);
+            }
+            Box::new(s)
+        }
+        None => open_live(args.device.as_deref())?,
+    };
+    let info = source.info().clone();
+    let write_error = |e: crate::capture::writer::WriteError| CliError::Capture {
+        path: args.out.clone(),
+        message: e.to_string(),
+    };
+    let label = format!(
+        "kansei capture ({}): {}",
+        info.interface.name(),
+        info.name.as_deref().unwrap_or("unnamed device")
+    );
+    let mut writer = StrokeWriter::create(&args.out, &info, &label).map_err(write_error)?;
+    let mut raw = match (&args.raw, source.descriptor()) {
+        (None, _) => None,
+        (Some(path), Some(descriptor)) => Some(
+            RawWriter::create(path, descriptor, &info).map_err(|e| CliError::Capture {
+                path: path.clone(),
+                message: e.to_string(),
+            })?,
+        ),
+        (Some(_), None) => {
+            return Err(CliError::Usage(
+                "--raw records HID reports: the tablet was opened through evdev, which has none"
+                    .into(),
+            ));
+        }
+    };
+    install_ctrlc();
+    writeln!(
+        out,
+        "capturing from {} -> {} (Ctrl-C to stop)",
+        info.summary(),
+        args.out.display()
+    )
+    .map_err(stdout_error)?;
+    let limits = CaptureLimits {
+        duration: args.duration,
+    };
+    let summary = run_capture(
+        source.as_mut(),
+        &mut writer,
+        raw.as_mut(),
+        &STOP,
+        limits,
+        |i, stroke| {
+            eprintln!("stroke {}: {} samples", i + 1, stroke.samples.len());
+        },
+    )
+    .map_err(write_error)?;
+    writeln!(
+        out,
+        "{} strokes{} from {} reports -> {}",
+        summary.strokes,
+        if summary.partial_saved {
+            " (the last one interrupted)"
+        } else {
+            ""
+        },
+        summary.reports,
+        args.out.display()
+    )
+    .map_err(stdout_error)?;
+    if summary.decode_errors > 0 {
+        eprintln!("warning: {} reports did not decode", summary.decode_errors);
+    }
+    match summary.end {
+        EndReason::SourceError(e) => Err(CliError::Capture {
+            path: info.node.unwrap_or_default().into(),
+            message: format!(
+                "{e}; the strokes so far are saved in {}",
+                args.out.display()
+            ),
+        }),
+        _ => Ok(()),
+    }
+}
+
+/// Ctrl-C sets [`STOP`]: the capture then writes the stroke in progress and exits normally.
+#[cfg(feature = "live")]
+fn install_ctrlc() {
+    if let Err(e) = ctrlc::set_handler(|| STOP.store(true, std::sync::atomic::Ordering::Relaxed)) {
+        eprintln!("warning: no Ctrl-C handler ({e}): Ctrl-C will lose the stroke in progress");
+    }
+}
+
+/// Without the `live` feature there is no Ctrl-C handler: Ctrl-C ends the process, and only
+/// the stroke in progress is lost (finished strokes are already on disk).
+#[cfg(not(feature = "live"))]
+fn install_ctrlc() {}
 
 /// Reads and validates strokes from any supported file, chosen by extension: hid-recorder
 /// `.hid`, W3C `.inkml`, evemu `.events`/`.evemu`, and `kansei-stroke` JSON (anything else).

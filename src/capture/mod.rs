@@ -10,11 +10,26 @@
 //! - [`evemu`]: Linux evdev recordings in the `evemu-record` text format.
 //! - [`inkml`]: W3C InkML (read, with the compact difference encodings; and write).
 //! - [`quickdraw`]: Google QuickDraw drawings (`.ndjson`).
+//! - [`source`]: the [`source::PenSource`] trait (live devices and recordings alike), device
+//!   descriptions, permission errors with the udev rules.
+//! - [`session`]: the capture loop, each stroke written as it ends.
+//! - [`writer`]: the crash-safe `kansei-stroke` writer and the hid-recorder raw writer.
+//! - [`evdev_frames`]: evdev events framed into pen reports.
+//! - `live_hid`, `live_evdev` (feature `live`): tablets through `/dev/hidraw*` (hidapi) and
+//!   `/dev/input/event*` (evdev).
 
+pub mod evdev_frames;
 pub mod evemu;
 pub mod hid;
 pub mod inkml;
+#[cfg(feature = "live")]
+pub mod live_evdev;
+#[cfg(feature = "live")]
+pub mod live_hid;
 pub mod quickdraw;
 pub mod recorder;
 pub mod replay;
+pub mod session;
+pub mod source;
 pub mod stroke_builder;
+pub mod writer;
