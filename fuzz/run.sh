@@ -15,7 +15,7 @@ ROOT="$(dirname "$HERE")"
 SHARED="${KANSEI_SHARED_HID:-/work/shared/data/wacom-intuos-pro-hid}"
 TARGETS=("$@")
 if [ ${#TARGETS[@]} -eq 0 ]; then
-    TARGETS=(hid_descriptor hid_report hid_recorder evemu inkml stroke_json)
+    TARGETS=(hid_descriptor hid_layout hid_report hid_recorder evemu inkml stroke_json)
 fi
 export RUSTC_BOOTSTRAP=1
 
@@ -24,7 +24,7 @@ head_recording() { awk -v n="$2" '/^#/ { next } /^E:/ { if (++e > n) exit } { pr
 
 seed() {
     local c="$HERE/corpus"
-    mkdir -p "$c"/{hid_descriptor,hid_report,hid_recorder,evemu,inkml,stroke_json}
+    mkdir -p "$c"/{hid_descriptor,hid_layout,hid_report,hid_recorder,evemu,inkml,stroke_json}
     local recs=("$ROOT"/fixtures/hid/*.hid)
     [ -d "$SHARED" ] && recs+=("$SHARED"/*.hid)
     local i=0
@@ -32,6 +32,11 @@ seed() {
         i=$((i + 1))
         grep -m1 '^R:' "$f" | cut -d' ' -f3- | xxd -r -p > "$c/hid_descriptor/seed-$i"
         head_recording "$f" 40 > "$c/hid_recorder/seed-$i"
+        # hid_layout: <u16 LE descriptor length><descriptor> then <length byte><report> x 40.
+        head_recording "$f" 40 | awk '
+            /^R:/ { n = $2; printf "%02x%02x", n % 256, int(n / 256); for (k = 3; k <= NF; k++) printf "%s", $k }
+            /^E:/ { printf "%02x", $3; for (k = 4; k <= NF; k++) printf "%s", $k }' |
+            xxd -r -p > "$c/hid_layout/seed-$i"
         # Distinct report shapes of the recording, as raw bytes.
         grep '^E:' "$f" | cut -d' ' -f4- | awk '!seen[$1 NF]++' | head -n 20 | {
             local j=0
