@@ -28,8 +28,8 @@ fn fuzz_dir() -> PathBuf {
 
 /// The Intuos Pro M descriptor `hid_report` decodes against (the fixture's `R:` line).
 fn intuos_layout() -> PenLayout {
-    let path = Path::new(env!("CARGO_MANIFEST_DIR"))
-        .join("fixtures/hid/pen-three-vertical-strokes.hid");
+    let path =
+        Path::new(env!("CARGO_MANIFEST_DIR")).join("fixtures/hid/pen-three-vertical-strokes.hid");
     let text = std::fs::read_to_string(path).expect("fixture");
     let rec = Recording::parse(&text).expect("parses");
     PenLayout::from_descriptor(&rec.descriptor).expect("layout")
