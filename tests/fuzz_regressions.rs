@@ -113,3 +113,17 @@ fn every_target_takes_the_empty_input() {
         run(target, b"");
     }
 }
+
+#[test]
+fn hid_descriptor_long_item_usage_without_page() {
+    // fe 05 01 | 09 01 a1 44 44: hidreport read the long item's payload as a Usage with no
+    // Usage Page, then panicked at the Collection; long items are now rejected up front.
+    replay("hid_descriptor-long-item-usage-without-page");
+    replay("hid_descriptor-long-item-original");
+    let data = std::fs::read(fuzz_dir().join("hid_descriptor-long-item-usage-without-page"))
+        .expect("saved input");
+    assert!(matches!(
+        PenLayout::from_descriptor(&data),
+        Err(kansei::capture::hid::HidError::DescriptorInvalid { offset: 0, .. })
+    ));
+}
