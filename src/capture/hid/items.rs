@@ -1,7 +1,7 @@
 //! A structural check of a report descriptor, item by item, before the `hidreport` parser sees
 //! it. It rejects, with the item's byte offset, what would make a parser panic or allocate without
-//! bound: items cut short, Usages without a Usage Page, Pop without Push, and counts beyond the
-//! limits the Linux HID core enforces on real devices.
+//! bound: items cut short, long items, Usages without a Usage Page, Pop without Push, and counts
+//! beyond the limits the Linux HID core enforces on real devices.
 //!
 //! It also normalises one thing: like the Linux HID core (`hid_parser_global`), a Logical or
 //! Physical Maximum is read unsigned when its Minimum is not negative, so `0x25, 0xff` is 255.
@@ -137,11 +137,13 @@ pub fn check_items(bytes: &[u8]) -> Result<CheckedDescriptor, HidError> {
                     available: remaining,
                 });
             }
-            out.offsets.push((out.bytes.len(), offset));
-            out.bytes
-                .extend_from_slice(&bytes[offset..offset + 1 + needed]);
-            offset += 1 + needed;
-            continue;
+            // HID 1.11 defines no long item tags, and `hidreport` reads 0xFE as a short item
+            // (2 data bytes), so the long item's payload would reach it as items this check
+            // never saw (a Usage without a Usage Page: a panic). Linux rejects long items too.
+            return Err(invalid(
+                offset,
+                format!("long item ({size} data bytes): no long items are defined"),
+            ));
         }
         let size = match prefix & 0b11 {
             3 => 4,

@@ -1,0 +1,11 @@
+//! Any UTF-8 text through `kansei::capture::inkml::read`: returns Ok or Err, never panics or hangs.
+#![no_main]
+
+use libfuzzer_sys::fuzz_target;
+
+fuzz_target!(|data: &[u8]| {
+    let Ok(text) = std::str::from_utf8(data) else {
+        return;
+    };
+    let _ = kansei::capture::inkml::read(text);
+});
