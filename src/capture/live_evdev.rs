@@ -154,18 +154,9 @@ pub fn list() -> Vec<EvdevTablet> {
                 let reason = format!("no access: {e} (errno {})", e.raw_os_error().unwrap_or(0));
                 out.push(EvdevTablet {
                     info: DeviceInfo {
-                        interface: Interface::Evdev,
                         node: Some(node.display().to_string()),
                         name: sysfs_name(&name),
-                        bus: None,
-                        vendor_id: None,
-                        product_id: None,
-                        width_mm: None,
-                        height_mm: None,
-                        pressure_levels: None,
-                        tilt: false,
-                        eraser: false,
-                        units: Units::Device,
+                        ..DeviceInfo::unknown(Interface::Evdev, Units::Device)
                     },
                     axes: EvdevAxes::default(),
                     access: Err(reason),

@@ -154,9 +154,9 @@ pub struct DeviceInfo {
 }
 
 impl DeviceInfo {
-    /// The description of a HID pen layout (its first pen report), other fields empty.
-    pub fn from_layout(interface: Interface, layout: &PenLayout) -> Self {
-        let mut info = DeviceInfo {
+    /// A device about which nothing is known but its interface and its coordinates' units.
+    pub fn unknown(interface: Interface, units: Units) -> Self {
+        DeviceInfo {
             interface,
             node: None,
             name: None,
@@ -168,8 +168,13 @@ impl DeviceInfo {
             pressure_levels: None,
             tilt: false,
             eraser: false,
-            units: Units::Mm,
-        };
+            units,
+        }
+    }
+
+    /// The description of a HID pen layout (its first pen report), other fields empty.
+    pub fn from_layout(interface: Interface, layout: &PenLayout) -> Self {
+        let mut info = DeviceInfo::unknown(interface, Units::Mm);
         if let Some(pen) = layout.pens.first() {
             info.fill_from_pen(pen);
         }
