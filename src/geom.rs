@@ -3,7 +3,7 @@
 //!
 //! Coordinates are in the stroke's units (see [`crate::stroke::Units`]); all numerics are `f64`.
 
-pub use kurbo::{CubicBez, ParamCurve, ParamCurveDeriv, Point, Vec2};
+pub use kurbo::{CubicBez, ParamCurve, ParamCurveDeriv, Point, Rect, Vec2};
 
 /// Two consecutive samples closer than this (relative to the stroke's bounding-box diagonal) are
 /// duplicates and are merged. `1e-12` is far below any device resolution (a 300 mm tablet at
@@ -40,6 +40,25 @@ impl ParamBez {
         let du = self.u1 - self.u0;
         if du == 0.0 { 0.0 } else { (u - self.u0) / du }
     }
+}
+
+/// The smallest axis-aligned rectangle holding every point (`None` without points).
+pub fn bounding_box(points: impl IntoIterator<Item = Point>) -> Option<Rect> {
+    let mut points = points.into_iter();
+    let first = points.next()?;
+    Some(points.fold(Rect::from_points(first, first), |r, p| r.union_pt(p)))
+}
+
+/// Arc length along the polyline at each of its points (0 at the first).
+pub fn cumulative_lengths(points: &[Point]) -> Vec<f64> {
+    let mut acc = 0.0;
+    let mut out = Vec::with_capacity(points.len());
+    out.extend(points.first().map(|_| 0.0));
+    for w in points.windows(2) {
+        acc += w[0].distance(w[1]);
+        out.push(acc);
+    }
+    out
 }
 
 /// Signed curvature of a parametric curve from its first and second derivatives:

@@ -196,23 +196,14 @@ pub fn fit_bspline(points: &[Point], options: &FitOptions) -> Result<BSplineFit,
     // origin (a stroke at x ≈ 10⁴) the translation-invariant C‴ = Σ N‴ⱼPⱼ would be computed by
     // cancelling huge terms. In the unit frame the fit is invariant under translation and scale
     // to rounding.
-    let (lo, hi) = points.iter().fold(
-        (
-            Point::new(f64::INFINITY, f64::INFINITY),
-            Point::new(f64::NEG_INFINITY, f64::NEG_INFINITY),
-        ),
-        |(lo, hi), p| {
-            (
-                Point::new(lo.x.min(p.x), lo.y.min(p.y)),
-                Point::new(hi.x.max(p.x), hi.y.max(p.y)),
-            )
-        },
-    );
-    let size = lo.distance(hi);
+    let Some(bounds) = crate::geom::bounding_box(points.iter().copied()) else {
+        return Err(FitError::TooFewPoints(0));
+    };
+    let size = bounds.origin().distance(Point::new(bounds.x1, bounds.y1));
     if !(size > 0.0 && size.is_finite()) {
         return Err(FitError::TooFewPoints(1));
     }
-    let centre = lo.midpoint(hi);
+    let centre = bounds.center();
     let to_unit = |p: Point| ((p - centre) / size).to_point();
     let unit: Vec<Point> = points.iter().map(|p| to_unit(*p)).collect();
     let unit_options = FitOptions {
@@ -597,18 +588,13 @@ fn averaged_knots(u: &[f64], segments: usize) -> Vec<f64> {
 
 /// Normalised cumulative chord length, or `None` when the points have no extent.
 fn chord_params(points: &[Point]) -> Option<Vec<f64>> {
-    let mut acc = 0.0;
-    let mut u = Vec::with_capacity(points.len());
-    u.push(0.0);
-    for w in points.windows(2) {
-        acc += w[0].distance(w[1]);
-        u.push(acc);
-    }
-    if !(acc > 0.0 && acc.is_finite()) {
+    let mut u = crate::geom::cumulative_lengths(points);
+    let total = u.last().copied().unwrap_or(0.0);
+    if !(total > 0.0 && total.is_finite()) {
         return None;
     }
     for x in &mut u {
-        *x /= acc;
+        *x /= total;
     }
     if let Some(last) = u.last_mut() {
         *last = 1.0;

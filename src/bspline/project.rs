@@ -6,7 +6,7 @@
 //! nearest-point search (kurbo's quintic root isolation) on every piece whose control-point box
 //! could hold a closer point than the local one.
 
-use crate::geom::{ParamBez, ParamCurve, Point, Vec2};
+use crate::geom::{ParamBez, ParamCurve, Point, Rect, Vec2, bounding_box};
 use kurbo::ParamCurveNearest;
 
 /// Newton stops when its step moves the foot point by less than this fraction of the curve's
@@ -34,8 +34,8 @@ pub struct Foot {
 /// A contiguous chain of Bézier pieces, ready for projection queries.
 pub struct Pieces {
     pieces: Vec<ParamBez>,
-    /// Control-point bounding boxes `(min, max)` of each piece.
-    boxes: Vec<(Point, Point)>,
+    /// Control-point bounding boxes of each piece.
+    boxes: Vec<Rect>,
     /// The size of the whole chain (bounding-box diagonal), for relative tolerances.
     scale: f64,
 }
@@ -43,39 +43,15 @@ pub struct Pieces {
 impl Pieces {
     /// Wraps a non-empty chain of contiguous pieces.
     pub fn new(pieces: Vec<ParamBez>) -> Self {
-        let boxes: Vec<(Point, Point)> = pieces
+        let boxes: Vec<Rect> = pieces
             .iter()
-            .map(|p| {
-                let b = &p.bez;
-                let xs = [b.p0.x, b.p1.x, b.p2.x, b.p3.x];
-                let ys = [b.p0.y, b.p1.y, b.p2.y, b.p3.y];
-                (
-                    Point::new(
-                        xs.iter().copied().fold(f64::INFINITY, f64::min),
-                        ys.iter().copied().fold(f64::INFINITY, f64::min),
-                    ),
-                    Point::new(
-                        xs.iter().copied().fold(f64::NEG_INFINITY, f64::max),
-                        ys.iter().copied().fold(f64::NEG_INFINITY, f64::max),
-                    ),
-                )
-            })
+            .filter_map(|p| bounding_box([p.bez.p0, p.bez.p1, p.bez.p2, p.bez.p3]))
             .collect();
-        let lo = boxes
+        let scale = boxes
             .iter()
-            .fold(Point::new(f64::INFINITY, f64::INFINITY), |a, b| {
-                Point::new(a.x.min(b.0.x), a.y.min(b.0.y))
-            });
-        let hi = boxes
-            .iter()
-            .fold(Point::new(f64::NEG_INFINITY, f64::NEG_INFINITY), |a, b| {
-                Point::new(a.x.max(b.1.x), a.y.max(b.1.y))
-            });
-        let scale = if boxes.is_empty() {
-            0.0
-        } else {
-            lo.distance(hi)
-        };
+            .copied()
+            .reduce(|a, b| a.union(b))
+            .map_or(0.0, |r| r.origin().distance(Point::new(r.x1, r.y1)));
         Pieces {
             pieces,
             boxes,
@@ -145,9 +121,9 @@ impl Pieces {
     /// current best is searched exactly.
     pub fn distance(&self, q: Point, near: Foot) -> Foot {
         let mut best = near;
-        for (pb, (lo, hi)) in self.pieces.iter().zip(&self.boxes) {
-            let dx = (lo.x - q.x).max(q.x - hi.x).max(0.0);
-            let dy = (lo.y - q.y).max(q.y - hi.y).max(0.0);
+        for (pb, b) in self.pieces.iter().zip(&self.boxes) {
+            let dx = (b.x0 - q.x).max(q.x - b.x1).max(0.0);
+            let dy = (b.y0 - q.y).max(q.y - b.y1).max(0.0);
             if dx.hypot(dy) >= best.distance {
                 continue;
             }

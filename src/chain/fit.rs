@@ -301,10 +301,7 @@ impl<'a> Fitter<'a> {
             self.max_curvature,
         )?;
         // Arcs and lines have no α: any value reproduces them; keep the range's middle.
-        let alpha = fit.segment.alpha().unwrap_or(match self.options.alpha {
-            AlphaChoice::Range { min, max } => 0.5 * (min + max),
-            AlphaChoice::Fixed(a) => a,
-        });
+        let alpha = fit.segment.alpha().unwrap_or(self.options.alpha.middle());
         Ok((alpha, fit.search))
     }
 
@@ -318,8 +315,8 @@ impl<'a> Fitter<'a> {
         }
     }
 
-    /// One segment per span, joints on the B-spline, α from the search; a span no LAC can join
-    /// becomes a biarc (an extra joint; both arcs are reproduced by any α).
+    /// One segment per span, joints on the B-spline, α from the search (a span no LAC can join
+    /// is left to [`Fitter::repair`]).
     fn initial(&self) -> Result<(State<'a>, Vec<AlphaSearch>), ChainError> {
         let spans = &self.input.spans.spans;
         let mut joints = vec![self.joint_at(spans[0].u0, spans[0].start.into())];
@@ -329,33 +326,14 @@ impl<'a> Fitter<'a> {
             let start = *joints.last().ok_or(ChainError::Input("no joints"))?;
             let end = self.joint_at(u1, span.end.into());
             let held = self.samples_in(u0, u1);
-            match self.search(&start, &end, &held, (u0, u1)) {
-                Ok((alpha, search)) => {
-                    alphas.push(alpha);
-                    samples.push(held);
-                    searches.push(search);
-                }
-                Err(_) => {
-                    let [s0, _] = biarc(start.p, start.tangent(), end.p, end.tangent())
-                        .map_err(|source| ChainError::Span { u0, u1, source })?;
-                    let mid = Joint {
-                        p: s0.end(),
-                        angle: s0.theta1(),
-                        kind: JointKind::Subdivision,
-                        fixed: false,
-                    };
-                    let um = 0.5 * (u0 + u1);
-                    let middle = match self.options.alpha {
-                        AlphaChoice::Range { min, max } => 0.5 * (min + max),
-                        AlphaChoice::Fixed(a) => a,
-                    };
-                    joints.push(mid);
-                    alphas.extend([middle, middle]);
-                    samples.push(self.samples_in(u0, um));
-                    samples.push(self.samples_in(um, u1));
-                    searches.extend([AlphaSearch::default(), AlphaSearch::default()]);
-                }
-            }
+            // A span no α can join keeps a placeholder: `repair`, which runs next, gives it the
+            // α its samples choose or splits it into a biarc.
+            let (alpha, search) = self
+                .search(&start, &end, &held, (u0, u1))
+                .unwrap_or((self.options.alpha.middle(), AlphaSearch::default()));
+            alphas.push(alpha);
+            samples.push(held);
+            searches.push(search);
             joints.push(end);
         }
         Ok((
@@ -433,16 +411,11 @@ impl<'a> Fitter<'a> {
     /// or at most where it was: least squares lowers the sum of squares, which can still lift one
     /// sample over the tolerance.
     fn refine_guarded(&self, state: &mut State<'a>, options: &RefineOptions) {
-        let max_of = |s: &State| -> f64 {
-            s.evaluate_all(self.chord_error).map_or(f64::INFINITY, |e| {
-                e.iter().map(|x| x.max).fold(0.0, f64::max)
-            })
-        };
         let before = state.clone();
-        let max_before = max_of(&before);
-        refine(state, options);
-        let max_after = max_of(state);
-        if max_after > self.tolerance.max(max_before) {
+        // `refine` measures the chain (all samples) before and after: no evaluation is repeated.
+        if let Some(r) = refine(state, options)
+            && r.end_max > self.tolerance.max(r.start_max)
+        {
             *state = before;
         }
     }
@@ -455,10 +428,7 @@ impl<'a> Fitter<'a> {
         state: &mut State<'a>,
         searches: &mut Vec<AlphaSearch>,
     ) -> Result<(), ChainError> {
-        let middle = match self.options.alpha {
-            AlphaChoice::Range { min, max } => 0.5 * (min + max),
-            AlphaChoice::Fixed(a) => a,
-        };
+        let middle = self.options.alpha.middle();
         let mut k = 0;
         while k < state.len() {
             if state.segment(k).is_ok() {

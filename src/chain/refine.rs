@@ -129,14 +129,18 @@ fn step_of(unknown: Unknown, options: &RefineOptions) -> f64 {
     }
 }
 
-/// Refines `state` in place; returns the evaluated final state (or `None` if the start itself
-/// cannot be evaluated, in which case the state is untouched).
-pub(crate) fn refine(state: &mut State<'_>, options: &RefineOptions) -> Option<Vec<Evaluated>> {
+/// Refines `state` in place; returns the chain's largest sample distance before and after (or
+/// `None` if the start itself cannot be evaluated, in which case the state is untouched).
+pub(crate) fn refine(state: &mut State<'_>, options: &RefineOptions) -> Option<Refined> {
     let mut current = state.evaluate_all(options.chord_error).ok()?;
+    let start_max = max_distance(&current);
     let mut current_cost = cost(&current);
     let (unknowns, ranges) = unknowns(state, options);
     if unknowns.is_empty() || current_cost == 0.0 {
-        return Some(current);
+        return Some(Refined {
+            start_max,
+            end_max: start_max,
+        });
     }
     let width = ranges.iter().map(|r| r.len()).max().unwrap_or(1);
     let mut lambda = LAMBDA_START;
@@ -215,5 +219,22 @@ pub(crate) fn refine(state: &mut State<'_>, options: &RefineOptions) -> Option<V
             break;
         }
     }
-    Some(current)
+    Some(Refined {
+        start_max,
+        end_max: max_distance(&current),
+    })
+}
+
+/// The largest sample distance of an evaluated chain.
+fn max_distance(evaluated: &[Evaluated]) -> f64 {
+    evaluated.iter().map(|e| e.max).fold(0.0, f64::max)
+}
+
+/// What [`refine`] did to the chain's largest sample distance.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(crate) struct Refined {
+    /// Before.
+    pub start_max: f64,
+    /// After.
+    pub end_max: f64,
 }

@@ -118,6 +118,10 @@ pub struct ChainRecord {
 }
 
 /// One log-aesthetic segment: the canonical record (`start` … `theta1`) and its fit.
+///
+/// The canonical fields are spelled out rather than `#[serde(flatten)]`ing a
+/// [`LacSegmentRecord`]: that record denies unknown fields, which serde cannot combine with
+/// flattening, and reading a document back must work. [`SegmentRecord::segment`] converts.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct SegmentRecord {
     /// Start point [x, y].

@@ -59,6 +59,15 @@ impl Default for AlphaChoice {
 }
 
 impl AlphaChoice {
+    /// The range's middle (the fixed α itself): the value to give a segment whose α does not
+    /// matter (an arc or a line, which every α reproduces) or is not known yet.
+    pub fn middle(&self) -> f64 {
+        match *self {
+            AlphaChoice::Range { min, max } => 0.5 * (min + max),
+            AlphaChoice::Fixed(alpha) => alpha,
+        }
+    }
+
     /// Checks that the range is finite and non-empty.
     pub fn validate(&self) -> Result<(), LacError> {
         let (min, max) = match *self {

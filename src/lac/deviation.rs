@@ -12,6 +12,7 @@
 
 use super::segment::LacSegment;
 use crate::geom::{Point, Vec2};
+use kurbo::common::GAUSS_LEGENDRE_COEFFS_3;
 
 /// Most polyline vertices used for one segment. A span whose required spacing would need more
 /// (an extreme curvature ratio) is traced at the coarser spacing this allows; the chord error
@@ -125,7 +126,7 @@ fn point_near(segment: &LacSegment, polyline: &[(f64, Point)], s: f64) -> Point 
     };
     let h = s - s0;
     let mut p = p0;
-    for &(w, x) in GAUSS_3 {
+    for &(w, x) in GAUSS_LEGENDRE_COEFFS_3 {
         let theta = segment.theta(s0 + 0.5 * h * (1.0 + x));
         p += Vec2::new(theta.cos(), theta.sin()) * (0.5 * h * w);
     }
@@ -162,7 +163,7 @@ pub fn trace(segment: &LacSegment, chord_error: f64) -> Vec<(f64, Point)> {
             h = length - s0;
         }
         let mut step = Vec2::ZERO;
-        for &(w, x) in GAUSS_3 {
+        for &(w, x) in GAUSS_LEGENDRE_COEFFS_3 {
             let theta = segment.theta(s0 + 0.5 * h * (1.0 + x));
             step += Vec2::new(theta.cos(), theta.sin()) * (0.5 * h * w);
         }
@@ -175,13 +176,6 @@ pub fn trace(segment: &LacSegment, chord_error: f64) -> Vec<(f64, Point)> {
     }
     out
 }
-
-/// 3-point Gauss–Legendre rule on [−1, 1]: (weight, node) = (8/9, 0), (5/9, ±√(3/5)).
-const GAUSS_3: &[(f64, f64)] = &[
-    (8.0 / 9.0, 0.0),
-    (5.0 / 9.0, -0.774_596_669_241_483_4),
-    (5.0 / 9.0, 0.774_596_669_241_483_4),
-];
 
 /// Projects ordered samples onto an ordered polyline.
 pub fn project_ordered(polyline: &[(f64, Point)], samples: &[Point]) -> Deviation {

@@ -7,7 +7,7 @@
 //! of amplitude σ moves the angle by about `σ/w`, so a window of several tolerances keeps noise
 //! well below the threshold.
 
-use crate::geom::Point;
+use crate::geom::{Point, cumulative_lengths};
 
 /// Options for corner and hook detection.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -82,14 +82,13 @@ const MIN_WINDOW_FRACTION: f64 = 0.25;
 
 /// Turning angle (radians, unsigned) at every point; `None` where a window is too short.
 pub fn turning_angles(points: &[Point], window: f64) -> Vec<Option<f64>> {
+    turning_angles_along(points, &cumulative_lengths(points), window)
+}
+
+/// [`turning_angles`] given the points' cumulative arc lengths `s`.
+fn turning_angles_along(points: &[Point], s: &[f64], window: f64) -> Vec<Option<f64>> {
     let n = points.len();
-    let mut s = Vec::with_capacity(n);
-    let mut acc = 0.0;
-    s.push(0.0);
-    for w in points.windows(2) {
-        acc += w[0].distance(w[1]);
-        s.push(acc);
-    }
+    let acc = s.last().copied().unwrap_or(0.0);
     let at = |target: f64| -> Point {
         let target = target.clamp(0.0, acc);
         let j = s.partition_point(|&x| x < target).clamp(1, n.max(2) - 1);
@@ -123,11 +122,8 @@ pub fn find_corners(points: &[Point], options: &CornerOptions) -> Cuts {
     if n < 3 || !(options.window > 0.0) {
         return cuts;
     }
-    let angles = turning_angles(points, options.window);
-    let mut s = vec![0.0; n];
-    for i in 1..n {
-        s[i] = s[i - 1] + points[i - 1].distance(points[i]);
-    }
+    let s = cumulative_lengths(points);
+    let angles = turning_angles_along(points, &s, options.window);
     let total = s[n - 1];
     let zone = options.hook_fraction * total;
     let corner = options.corner_angle.to_radians();

@@ -1,4 +1,4 @@
-use crate::geom::{DUPLICATE_RELATIVE, Point};
+use crate::geom::{DUPLICATE_RELATIVE, Point, bounding_box};
 use crate::stroke::Stroke;
 
 /// A stroke's distinct consecutive positions.
@@ -16,19 +16,9 @@ pub struct Distinct {
 /// bounding-box diagonal into their first sample.
 pub fn merge_duplicates(stroke: &Stroke) -> Distinct {
     let pts = stroke.points();
-    let (mut lo, mut hi) = (
-        Point::new(f64::INFINITY, f64::INFINITY),
-        Point::new(f64::NEG_INFINITY, f64::NEG_INFINITY),
-    );
-    for p in &pts {
-        lo = Point::new(lo.x.min(p.x), lo.y.min(p.y));
-        hi = Point::new(hi.x.max(p.x), hi.y.max(p.y));
-    }
-    let eps = if pts.is_empty() {
-        0.0
-    } else {
-        DUPLICATE_RELATIVE * lo.distance(hi)
-    };
+    let diagonal = bounding_box(pts.iter().copied())
+        .map_or(0.0, |b| b.origin().distance(Point::new(b.x1, b.y1)));
+    let eps = DUPLICATE_RELATIVE * diagonal;
     let mut out = Distinct {
         points: Vec::new(),
         first: Vec::new(),
