@@ -15,7 +15,7 @@
 //! for K segments instead of the O(K³) of a dense solve.
 
 use super::band::Band;
-use super::state::{Evaluated, State, cost};
+use super::state::{Evaluated, State, cost, residuals_at_feet};
 
 /// Options of [`refine`].
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -152,17 +152,23 @@ pub(crate) fn refine(state: &mut State<'_>, options: &RefineOptions) -> Option<R
             .zip(&ranges)
             .map(|(e, r)| vec![0.0; e.residuals.len() * r.len()])
             .collect();
+        // The residuals of the first-order model at the current state (equal to the exact ones
+        // at exact feet; taken from the model itself so that differences are consistent).
+        let base: Vec<Vec<f64>> = current
+            .iter()
+            .enumerate()
+            .map(|(k, e)| residuals_at_feet(&e.segment, &state.points_of(k), e))
+            .collect();
         for (c, &u) in unknowns.iter().enumerate() {
             let h = step_of(u, options);
             let mut probe = state.clone();
             add(&mut probe, u, h, options);
             for k in touched(u, state.len()) {
-                let Ok(e) = probe.evaluate_near(k, options.chord_error, Some(&current[k].segment))
-                else {
+                let Ok(r) = probe.residuals_near(k, &current[k]) else {
                     continue;
                 };
                 let (cols, col) = (ranges[k].len(), c - ranges[k].start);
-                for (i, (r1, r0)) in e.residuals.iter().zip(&current[k].residuals).enumerate() {
+                for (i, (r1, r0)) in r.iter().zip(&base[k]).enumerate() {
                     blocks[k][i * cols + col] = (r1 - r0) / h;
                 }
             }

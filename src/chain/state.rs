@@ -51,6 +51,8 @@ pub(crate) struct Evaluated {
     pub max: f64,
     /// The segment.
     pub segment: LacSegment,
+    /// Each sample's foot point, as arc length along the segment.
+    pub feet: Vec<f64>,
 }
 
 impl State<'_> {
@@ -107,7 +109,21 @@ impl State<'_> {
             residuals,
             max: d.max,
             segment,
+            feet: d.feet,
         })
+    }
+
+    /// Signed residuals of segment `k`'s samples under a first-order model around `near` (an
+    /// evaluation of the same segment in a nearby state): each sample is measured against the
+    /// point at its old foot's arc length, along that point's normal,
+    /// r = (q − P(s))·N(s). At an exact foot this is the signed distance, and since a small change
+    /// of the curve moves the foot only along the tangent, it differs from the distance to the
+    /// changed curve by second-order terms: enough for a finite-difference Jacobian, at the cost
+    /// of one point per sample instead of a traced polyline. Feet clamped at an end (the sample
+    /// lies beyond it) are measured by the distance to the end point, with the old side.
+    pub fn residuals_near(&self, k: usize, near: &Evaluated) -> Result<Vec<f64>, LacError> {
+        let segment = self.segment_near(k, Some(&near.segment))?;
+        Ok(residuals_at_feet(&segment, &self.points_of(k), near))
     }
 
     /// The sample positions of segment `k`.
@@ -142,4 +158,27 @@ pub(crate) fn cost(evaluated: &[Evaluated]) -> f64 {
         .flat_map(|e| e.residuals.iter())
         .map(|r| r * r)
         .sum()
+}
+
+/// The first-order residual model of [`State::residuals_near`] for `segment`.
+pub(crate) fn residuals_at_feet(
+    segment: &LacSegment,
+    points: &[Point],
+    near: &Evaluated,
+) -> Vec<f64> {
+    let old_length = near.segment.length();
+    points
+        .iter()
+        .zip(&near.feet)
+        .zip(&near.residuals)
+        .map(|((q, &foot), &r)| {
+            let sample = segment.sample(foot);
+            if foot <= 0.0 || foot >= old_length {
+                q.distance(sample.point).copysign(r)
+            } else {
+                let normal = Vec2::new(-sample.theta.sin(), sample.theta.cos());
+                (*q - sample.point).dot(normal)
+            }
+        })
+        .collect()
 }

@@ -25,8 +25,9 @@ pub const GRID_STEP: f64 = 0.5;
 /// (coarser, hence faster, tracing); the chosen segment's distances are then computed exactly.
 const SEARCH_CHORD_FACTOR: f64 = 10.0;
 
-/// Absolute tolerance on α of the continuous search. α is reported to about 1e-3, and the
-/// deviation changes by far less than a tolerance over 1e-4 of α.
+/// Absolute tolerance on α of the continuous search. The search only starts the chain
+/// refinement, which moves α again (by 0.1–0.2 on noisy ends); the deviation changes by far less
+/// than a tolerance over 1e-3 of α, and Brent spends about four evaluations per decade of it.
 pub const ALPHA_TOLERANCE: f64 = 1e-4;
 
 /// Evaluation budget of the Brent stage (it converges in 10–20 on smooth objectives).

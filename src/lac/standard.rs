@@ -262,7 +262,7 @@ impl StandardLac {
 }
 
 /// G(θ) = e^{iθ}(1 − iθ) − 1 = Σ_{n≥2} (1 − n)(iθ)ⁿ/n!.
-fn involute_g(theta: f64) -> Vec2 {
+pub(crate) fn involute_g(theta: f64) -> Vec2 {
     if theta.abs() >= INVOLUTE_SERIES_BELOW {
         involute_g_direct(theta)
     } else {

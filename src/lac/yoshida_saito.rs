@@ -33,8 +33,9 @@
 use super::error::LacError;
 use super::log_radius::{integrals, log_radius_integral};
 use super::segment::LacSegment;
-use super::special::cis;
 use super::special::exprel;
+use super::special::{SERIES_TERM_EPS, cdiv, cexpm1, cis, cmul};
+use super::standard::involute_g;
 use crate::geom::{Point, Vec2};
 use std::f64::consts::PI;
 
@@ -58,6 +59,18 @@ pub const COINCIDENT_RELATIVE: f64 = 1e-14;
 /// slower still for 0 ≤ α < 1) of the limit φ_∞ that only an infinitely long curve reaches: it is
 /// reported as outside the drawable region, since the record could not hold its far-end curvature.
 pub const MAX_LOG_CURVATURE_RATIO: f64 = 600.0;
+
+/// Terms of the φ_∞ series summed at most: a turning of 2π needs about 45 for 1e-18.
+const LIMIT_SERIES_MAX_TERMS: usize = 80;
+
+/// Data whose larger end angle exceeds the series value of φ_∞ by more than this (radians) is
+/// rejected without solving; closer to the limit the solve (and, for α < 0, the exact edge test)
+/// decides. Far above the series' rounding (≈ 1e-14 for turnings up to 2π).
+const LIMIT_PRECHECK_MARGIN: f64 = 1e-9;
+
+/// For α < 0, the κ = 0 edge is only examined when no root lies below this log curvature ratio
+/// (e^{40}): pen data is far inside, and the edge needs an integral over an unbounded range.
+const EDGE_CHECK_RATIO: f64 = 40.0;
 
 /// Most Newton/bisection steps of the q solve: bisection alone would reach the tolerance on
 /// [0, 600] in 53; Newton converges quadratically in a handful.
@@ -89,6 +102,8 @@ struct StandardShape {
     length: f64,
     /// Curvature at the end, e^{−q} (0 at the edge).
     kappa1: f64,
+    /// Total turning θ_T.
+    theta_t: f64,
 }
 
 impl StandardShape {
@@ -100,6 +115,7 @@ impl StandardShape {
                 upper: f64::INFINITY,
                 length: theta_t * (alpha - 1.0) / alpha,
                 kappa1: 0.0,
+                theta_t,
             },
             // Λ = q·exprel((α−1)q)/θ_T, s_T = θ_T·exprel(αq)/exprel((α−1)q).
             Some(q) => {
@@ -109,6 +125,7 @@ impl StandardShape {
                     upper: q,
                     length: theta_t * exprel(alpha * q) / e,
                     kappa1: (-q).exp(),
+                    theta_t,
                 }
             }
         };
@@ -124,6 +141,9 @@ impl StandardShape {
 
     /// e^{−shift}·P(s_T) with the shift (0, or αU for α > 0) that keeps it of order one.
     fn scaled_end(&self, alpha: f64) -> (Vec2, f64) {
+        if let Some((p, _)) = closed_form_end(alpha, self.theta_t, self.upper) {
+            return (p, 0.0);
+        }
         let shift = if alpha > 0.0 { alpha * self.upper } else { 0.0 };
         let integral = log_radius_integral(alpha, self.inv_lambda, self.upper, shift);
         (integral * self.inv_lambda, shift)
@@ -149,6 +169,9 @@ impl StandardShape {
 /// Both integrals share one pass over the nodes; the common factor e^{−shift} cancels.
 fn chord_angle_and_slope(alpha: f64, theta_t: f64, q: f64) -> Result<(f64, f64), LacError> {
     let shape = StandardShape::new(alpha, theta_t, Some(q))?;
+    if let Some((p, dp)) = closed_form_end(alpha, theta_t, q) {
+        return Ok((p.y.atan2(p.x), (p.x * dp.y - p.y * dp.x) / p.hypot2()));
+    }
     let shift = if alpha > 0.0 { alpha * q } else { 0.0 };
     let (i, j) = integrals(alpha, shape.inv_lambda, q, shift, true);
     let log_rate = -1.0 / (q * exprel(-(alpha - 1.0) * q));
@@ -243,31 +266,48 @@ pub fn fit_g1_near(
         return Err(outside());
     }
 
+    // Far outside (beyond the limit φ_∞ by more than the series' accuracy): no solve needed.
+    if limit_chord_angle(alpha, theta_t).is_some_and(|limit| big > limit + LIMIT_PRECHECK_MARGIN) {
+        return Err(outside());
+    }
     let q = if alpha < 0.0 {
-        let f_edge = StandardShape::new(alpha, theta_t, None)?.chord_angle(alpha) - big;
-        if f_edge < -DRAWABLE_EDGE_TOLERANCE {
-            return Err(outside());
-        }
-        if f_edge <= 0.0 {
-            None
-        } else {
-            // Beyond q = 600 the far-end curvature is not representable. For α well below 0 the
-            // chord angle there is within rounding of the edge's, which is then the answer; near
-            // α = 0⁻ it approaches the edge only like e^{αq}, the data lies between q = 600 and
-            // the edge, and no record can hold it.
-            match solve_q(alpha, theta_t, big, hint)? {
-                Some(q) => Some(q),
-                None if f_edge <= DRAWABLE_EDGE_TOLERANCE => None,
-                None => {
-                    return Err(LacError::CurvatureRatioOutOfRange {
-                        ratio: f64::INFINITY,
+        // Most data lies well inside the region: look for the root below a moderate ratio first,
+        // and only beyond it compare with the κ = 0 edge (an integral over an unbounded range).
+        match solve_q(alpha, theta_t, big, hint, EDGE_CHECK_RATIO)? {
+            Some(q) => Some(q),
+            None => {
+                let f_edge = StandardShape::new(alpha, theta_t, None)?.chord_angle(alpha) - big;
+                if f_edge < -DRAWABLE_EDGE_TOLERANCE {
+                    return Err(outside());
+                }
+                if f_edge <= 0.0 {
+                    None
+                } else {
+                    // Beyond q = 600 the far-end curvature is not representable. For α well below
+                    // 0 the chord angle there is within rounding of the edge's, which is then the
+                    // answer; near α = 0⁻ it approaches the edge only like e^{αq}, the data lies
+                    // between q = 600 and the edge, and no record can hold it.
+                    match solve_q(
                         alpha,
-                    });
+                        theta_t,
+                        big,
+                        Some(EDGE_CHECK_RATIO),
+                        MAX_LOG_CURVATURE_RATIO,
+                    )? {
+                        Some(q) => Some(q),
+                        None if f_edge <= DRAWABLE_EDGE_TOLERANCE => None,
+                        None => {
+                            return Err(LacError::CurvatureRatioOutOfRange {
+                                ratio: f64::INFINITY,
+                                alpha,
+                            });
+                        }
+                    }
                 }
             }
         }
     } else {
-        Some(solve_q(alpha, theta_t, big, hint)?.ok_or_else(outside)?)
+        Some(solve_q(alpha, theta_t, big, hint, MAX_LOG_CURVATURE_RATIO)?.ok_or_else(outside)?)
     };
     let shape = StandardShape::new(alpha, theta_t, q)?;
     let (end, shift) = shape.scaled_end(alpha);
@@ -284,24 +324,90 @@ pub fn fit_g1_near(
     LacSegment::new(a, angle_a, length, Some(alpha), kappa0, kappa1)
 }
 
+/// P(s_T) and dP/dq of the standard span in closed form, for α = 1 and α = 2 (`None` otherwise,
+/// or at the κ = 0 edge). With ds = ρ dθ:
+///
+/// * α = 1 (logarithmic spiral): ρ = e^{Λθ}, Λ = q/θ_T, z = Λ + i, E = e^{zθ_T} = e^q·e^{iθ_T}:
+///   P = (E − 1)/z and dP/dq = (E − P/θ_T)/z.
+/// * α = 2 (circle involute): ρ = 1 + kθ, k = (e^q − 1)/θ_T:
+///   P = −i(e^{iθ_T} − 1) + k·G(θ_T), G(θ) = e^{iθ}(1 − iθ) − 1, and dP/dq = (e^q/θ_T)·G(θ_T).
+fn closed_form_end(alpha: f64, theta_t: f64, q: f64) -> Option<(Vec2, Vec2)> {
+    if !q.is_finite() {
+        return None;
+    }
+    if alpha == 1.0 {
+        let z = Vec2::new(q / theta_t, 1.0);
+        let e_minus_1 = cexpm1(q, theta_t);
+        let p = cdiv(e_minus_1, z);
+        let e = e_minus_1 + Vec2::new(1.0, 0.0);
+        Some((p, cdiv(e - p / theta_t, z)))
+    } else if alpha == 2.0 {
+        let g = involute_g(theta_t);
+        let e = cexpm1(0.0, theta_t);
+        let p = Vec2::new(e.y, -e.x) + g * (q.exp_m1() / theta_t);
+        Some((p, g * (q.exp() / theta_t)))
+    } else {
+        None
+    }
+}
+
+/// The chord angle φ_∞ that the standard span approaches as q → ∞, by power series, for α < 0
+/// (the κ = 0 edge) and α > 1; `None` for 0 ≤ α ≤ 1, where it is θ_T itself (never binding, since
+/// the larger end angle is below the total turning). In the turning angle t = θ/θ_T:
+///
+/// * α < 0: ρ^{α−1} = 1 − t, so ρ = r^{−γ} with r = 1 − t and γ = 1/(1 − α) ∈ (0, 1), and
+///   P = θ_T·e^{iθ_T}·∫₀¹ e^{−iθ_T r}·r^{−γ} dr = θ_T·e^{iθ_T}·Σ_k (−iθ_T)^k/(k!·(k + 1 − γ));
+/// * α > 1 (q → ∞): ds = ρ dθ ∝ θ^p dθ with p = 1/(α − 1), and
+///   ∫₀^{θ_T} θ^p e^{iθ} dθ = θ_T^{p+1}·Σ_k (iθ_T)^k/(k!·(k + p + 1)).
+///
+/// The terms fall like θ_T^k/k!; the sum stops when they are below [`SERIES_TERM_EPS`] of it. For a
+/// turning of 2π the largest term is ≈ 85, so two digits are lost to cancellation: this is a
+/// quick pre-check with a margin, not the edge test itself. The value is not wrapped: it may exceed
+/// π, where no end angle (each in (−π, π]) can reach it.
+fn limit_chord_angle(alpha: f64, theta_t: f64) -> Option<f64> {
+    let (base, sign, offset) = if alpha < 0.0 {
+        (theta_t, -1.0, 1.0 - 1.0 / (1.0 - alpha))
+    } else if alpha > 1.0 {
+        (0.0, 1.0, 1.0 + 1.0 / (alpha - 1.0))
+    } else {
+        return None;
+    };
+    let step = Vec2::new(0.0, sign * theta_t);
+    let mut power = Vec2::new(1.0, 0.0); // (±iθ_T)^k/k!
+    let mut sum = power * (1.0 / offset);
+    for k in 1..LIMIT_SERIES_MAX_TERMS {
+        power = cmul(power, step) * (1.0 / k as f64);
+        let term = power * (1.0 / (k as f64 + offset));
+        sum += term;
+        if term.hypot() < SERIES_TERM_EPS * sum.hypot() {
+            break;
+        }
+    }
+    Some(base + sum.y.atan2(sum.x))
+}
+
 /// Solves φ(q) = `big` for q by Newton's method on φ(q) − big with the analytic slope of
 /// [`chord_angle_and_slope`], safeguarded by a bracket: φ(0) = θ_T/2 < big and φ increases with q,
 /// so every evaluation moves one end of [lo, hi]; a Newton step that leaves the bracket is replaced
 /// by bisection (or, while no upper end is known, by at most quadrupling q). Starts from `hint`
 /// (a nearby solution, e.g. the previous iterate of a chain refinement) or q = 1.
 ///
-/// `None` when φ stays below `big` up to q = [`MAX_LOG_CURVATURE_RATIO`] (or a q at which ρ^α or the
+/// `None` when φ stays below `big` up to q = `q_max` (at most [`MAX_LOG_CURVATURE_RATIO`]; or a q at which ρ^α or the
 /// length overflows f64): for α ≥ 0 the data is then outside the drawable region; for α < 0 (where
 /// the caller has checked big < φ_∞) it is within e^{−600} of the κ = 0 edge, which is the answer.
-fn solve_q(alpha: f64, theta_t: f64, big: f64, hint: Option<f64>) -> Result<Option<f64>, LacError> {
+fn solve_q(
+    alpha: f64,
+    theta_t: f64,
+    big: f64,
+    hint: Option<f64>,
+    q_max: f64,
+) -> Result<Option<f64>, LacError> {
     let (mut lo, mut hi) = (0.0_f64, f64::INFINITY);
     // Whether φ(hi) ≥ big was seen (hi may also be a q at which the shape overflows).
     let mut bracketed = false;
     // The last Newton step taken, while Newton steps follow each other.
     let mut previous_step: Option<f64> = None;
-    let mut q = hint
-        .filter(|&h| h > 0.0 && h <= MAX_LOG_CURVATURE_RATIO)
-        .unwrap_or(1.0);
+    let mut q = hint.filter(|&h| h > 0.0 && h <= q_max).unwrap_or(1.0);
     for _ in 0..MAX_SOLVE_STEPS {
         let (phi, slope) = match chord_angle_and_slope(alpha, theta_t, q) {
             Ok(v) => v,
@@ -327,10 +433,8 @@ fn solve_q(alpha: f64, theta_t: f64, big: f64, hint: Option<f64>) -> Result<Opti
             bracketed = true;
         }
         let newton = q - f / slope;
-        let newton_ok = newton > lo
-            && newton < hi
-            && newton <= MAX_LOG_CURVATURE_RATIO
-            && (hi.is_finite() || newton <= 4.0 * q);
+        let newton_ok =
+            newton > lo && newton < hi && newton <= q_max && (hi.is_finite() || newton <= 4.0 * q);
         if newton_ok {
             let step = (newton - q).abs();
             // Quadratic convergence: the error after this step is ≈ C·step² with
@@ -352,10 +456,10 @@ fn solve_q(alpha: f64, theta_t: f64, big: f64, hint: Option<f64>) -> Result<Opti
         } else if hi.is_finite() {
             0.5 * (lo + hi)
         } else {
-            if q >= MAX_LOG_CURVATURE_RATIO {
+            if q >= q_max {
                 return Ok(None);
             }
-            (4.0 * q).min(MAX_LOG_CURVATURE_RATIO)
+            (4.0 * q).min(q_max)
         };
         if hi - lo <= LOG_RATIO_TOLERANCE {
             // Without a sign change the bracket closed on the overflow bound: no representable root.
@@ -373,7 +477,7 @@ mod tests {
 
     #[test]
     fn chord_angle_slope_matches_central_differences() {
-        for alpha in [-2.5, -1.0, -0.2, 0.0, 0.4, 1.0, 1.7, 3.0] {
+        for alpha in [-2.5, -1.0, -0.2, 0.0, 0.4, 1.0, 1.7, 2.0, 3.0] {
             for theta_t in [0.2, 1.0, 2.5] {
                 for q in [0.05, 0.7, 2.0, 6.0] {
                     let (_, slope) = chord_angle_and_slope(alpha, theta_t, q).expect("valid");
@@ -387,6 +491,54 @@ mod tests {
                     assert!(
                         (slope - fd).abs() <= 1e-7 * (1.0 + fd.abs()),
                         "α {alpha} θ_T {theta_t} q {q}: {slope} vs {fd}"
+                    );
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn limit_series_matches_the_edge_and_large_ratios() {
+        for theta_t in [0.05, 0.8, 2.0, 4.0, 6.2] {
+            for alpha in [-3.0, -1.0, -0.3, -0.01] {
+                let edge = StandardShape::new(alpha, theta_t, None)
+                    .expect("valid")
+                    .chord_angle(alpha);
+                let series = limit_chord_angle(alpha, theta_t).expect("α < 0");
+                // atan2 wraps to (−π, π]; the series does not.
+                assert!(
+                    wrap(edge - series).abs() < 1e-12,
+                    "α {alpha} θ_T {theta_t}: {edge} vs {series}"
+                );
+            }
+            for alpha in [1.5, 2.0, 3.0] {
+                // φ(q) rises to φ_∞ like e^{−(α−1)q}: q = 60 is within rounding of it.
+                let far = chord_angle_and_slope(alpha, theta_t, 60.0)
+                    .expect("valid")
+                    .0;
+                let series = limit_chord_angle(alpha, theta_t).expect("α > 1");
+                assert!(
+                    wrap(far - series).abs() < 1e-11,
+                    "α {alpha} θ_T {theta_t}: {far} vs {series}"
+                );
+            }
+            assert_eq!(limit_chord_angle(0.5, theta_t), None);
+        }
+    }
+
+    #[test]
+    fn closed_forms_agree_with_log_radius_quadrature() {
+        for alpha in [1.0, 2.0] {
+            for theta_t in [0.01, 0.5, 2.0, 3.0] {
+                for q in [1e-6, 0.3, 2.0, 8.0] {
+                    let shape = StandardShape::new(alpha, theta_t, Some(q)).expect("valid");
+                    let (closed, _) = closed_form_end(alpha, theta_t, q).expect("α = 1, 2");
+                    let shift = alpha * q;
+                    let quad = log_radius_integral(alpha, shape.inv_lambda, q, shift)
+                        * (shape.inv_lambda * shift.exp());
+                    assert!(
+                        (closed - quad).hypot() <= 1e-13 * shape.length,
+                        "α {alpha} θ_T {theta_t} q {q}: {closed:?} vs {quad:?}"
                     );
                 }
             }
