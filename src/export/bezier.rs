@@ -6,9 +6,9 @@
 //!
 //! kurbo estimates its error from 20 samples per cubic; [`segment_beziers`] then *measures* the
 //! distance between the cubics and the exact segment both ways (see [`bezier_error`]) and, when
-//! the measure exceeds the accuracy asked for, fits again with kurbo's target halved (at most
-//! [`MAX_REFITS`] times). The result carries the measured error, so what a file states is what
-//! was checked.
+//! the measure exceeds the accuracy asked for, halves that part of the segment by arc length and
+//! fits each half again (at most [`MAX_SPLIT_DEPTH`] levels). The result carries the measured
+//! error, so what a file states is what was checked.
 //!
 //! Lines become one exact cubic (control points at the thirds); arcs and spirals go through the
 //! fitter. The SVG writer draws arcs and lines exactly with `A`/`L` instead.
@@ -29,11 +29,10 @@ use super::svg::lac_spacing;
 /// for every purpose, the fitted one.
 pub const DEFAULT_ACCURACY_FRACTION: f64 = 0.1;
 
-/// How many times [`segment_beziers`] halves kurbo's target when the measured error exceeds the
-/// accuracy. kurbo's own estimate is close (it samples 20 points per cubic), so one halving is
-/// usually plenty; four bound the work at 16× finer, after which the best fit found is kept and
-/// its measured error reported.
-pub const MAX_REFITS: usize = 4;
+/// How many times [`segment_beziers`] may halve a part of a segment whose fit measures beyond
+/// the accuracy: 2¹² parts bound the work; a segment still beyond it keeps its best fit, with the
+/// measured error reported (never observed on the fixtures).
+pub const MAX_SPLIT_DEPTH: usize = 12;
 
 /// Points measured on each cubic when checking it against the segment (besides its ends, which
 /// lie on the segment by construction). 32 points on a cubic that is within a tenth of the
@@ -49,17 +48,39 @@ pub const REFERENCE_CHORD_FRACTION: f64 = 0.01;
 /// (a fraction of the export accuracy).
 const NEAREST_ACCURACY_FRACTION: f64 = 1e-3;
 
-/// A [`LacSegment`] seen by kurbo's curve fitter: parameter t ∈ [0, 1] is the arc-length
-/// fraction s/S.
+/// A [`LacSegment`], or the part of it between two arc lengths, seen by kurbo's curve fitter:
+/// parameter t ∈ [0, 1] is the arc-length fraction of that part.
 #[derive(Clone, Copy, Debug)]
 pub struct LacCurve<'a> {
     segment: &'a LacSegment,
+    s0: f64,
+    s1: f64,
 }
 
 impl<'a> LacCurve<'a> {
-    /// The adapter for `segment`.
+    /// The adapter for the whole of `segment`.
     pub fn new(segment: &'a LacSegment) -> Self {
-        LacCurve { segment }
+        LacCurve {
+            segment,
+            s0: 0.0,
+            s1: segment.length(),
+        }
+    }
+
+    /// The adapter for the part of `segment` between arc lengths `s0` and `s1` (clamped to the
+    /// segment).
+    pub fn part(segment: &'a LacSegment, s0: f64, s1: f64) -> Self {
+        let clamp = |s: f64| s.clamp(0.0, segment.length());
+        LacCurve {
+            segment,
+            s0: clamp(s0),
+            s1: clamp(s1),
+        }
+    }
+
+    /// Arc length on the segment of parameter `t`.
+    fn arc_length(&self, t: f64) -> f64 {
+        self.s0 + t * (self.s1 - self.s0)
     }
 }
 
@@ -71,13 +92,12 @@ impl ParamCurveFit for LacCurve<'_> {
         CurveFitSample { p, tangent }
     }
 
-    /// P(t·S) and dP/dt = S·(cos θ, sin θ).
+    /// P(s) and dP/dt = (s1 − s0)·(cos θ(s), sin θ(s)), s = s0 + t·(s1 − s0).
     fn sample_pt_deriv(&self, t: f64) -> (Point, Vec2) {
-        let length = self.segment.length();
-        let s = t * length;
+        let s = self.arc_length(t);
         (
             self.segment.point(s),
-            Vec2::from_angle(self.segment.theta(s)) * length,
+            Vec2::from_angle(self.segment.theta(s)) * (self.s1 - self.s0),
         )
     }
 
@@ -141,25 +161,46 @@ fn distance_to_chord(p: Point, a: Point, b: Point) -> f64 {
     (p - (a + ab * t)).hypot()
 }
 
-/// The largest distance between `cubics` and `segment`, measured both ways:
-///
-/// * from the segment: its points every [`lac_spacing`] (chord error
-///   [`REFERENCE_CHORD_FRACTION`] × `accuracy`) to the nearest cubic (kurbo's nearest point);
-/// * from the cubics: [`CHECK_POINTS_PER_CUBIC`] points on each to that polyline, plus the
-///   polyline's chord error (the polyline lies within it of the segment, so this bounds the
-///   distance to the segment itself).
-///
-/// This is the two-sided (Hausdorff) distance at the measured points. `accuracy` only sets the
-/// measuring resolution.
-pub fn bezier_error(segment: &LacSegment, cubics: &[CubicBez], accuracy: f64) -> f64 {
-    let chord = REFERENCE_CHORD_FRACTION * accuracy;
-    let reference: Vec<Point> = segment
-        .samples(lac_spacing(segment, chord))
-        .map(|s| s.point)
-        .collect();
+/// The exact segment for measuring: its points every [`lac_spacing`] (chord error
+/// [`REFERENCE_CHORD_FRACTION`] × the accuracy), with their arc lengths.
+struct Reference {
+    s: Vec<f64>,
+    points: Vec<Point>,
+    chord: f64,
+}
+
+impl Reference {
+    fn new(segment: &LacSegment, accuracy: f64) -> Self {
+        let chord = REFERENCE_CHORD_FRACTION * accuracy;
+        let (s, points) = segment
+            .samples(lac_spacing(segment, chord))
+            .map(|x| (x.s, x.point))
+            .unzip();
+        Reference { s, points, chord }
+    }
+
+    /// The polyline of the part between arc lengths `s0` and `s1`: its exact end points and the
+    /// reference points strictly between.
+    fn part(&self, segment: &LacSegment, s0: f64, s1: f64) -> Vec<Point> {
+        let mut out = vec![segment.point(s0)];
+        out.extend(
+            self.s
+                .iter()
+                .zip(&self.points)
+                .filter(|(s, _)| **s > s0 && **s < s1)
+                .map(|(_, p)| *p),
+        );
+        out.push(segment.point(s1));
+        out
+    }
+}
+
+/// The two-sided distance between `cubics` and the part of `segment` whose polyline is
+/// `reference` (see [`bezier_error`]).
+fn measure(reference: &[Point], chord: f64, cubics: &[CubicBez], accuracy: f64) -> f64 {
     let nearest_accuracy = NEAREST_ACCURACY_FRACTION * accuracy;
     let mut worst: f64 = 0.0;
-    for &p in &reference {
+    for &p in reference {
         let d2 = cubics
             .iter()
             .map(|c| c.nearest(p, nearest_accuracy).distance_sq)
@@ -179,14 +220,65 @@ pub fn bezier_error(segment: &LacSegment, cubics: &[CubicBez], accuracy: f64) ->
     worst
 }
 
+/// The largest distance between `cubics` and `segment`, measured both ways:
+///
+/// * from the segment: its points every [`lac_spacing`] (chord error
+///   [`REFERENCE_CHORD_FRACTION`] × `accuracy`) to the nearest cubic (kurbo's nearest point);
+/// * from the cubics: [`CHECK_POINTS_PER_CUBIC`] points on each to that polyline, plus the
+///   polyline's chord error (the polyline lies within it of the segment, so this bounds the
+///   distance to the segment itself).
+///
+/// This is the two-sided (Hausdorff) distance at the measured points. `accuracy` only sets the
+/// measuring resolution.
+pub fn bezier_error(segment: &LacSegment, cubics: &[CubicBez], accuracy: f64) -> f64 {
+    let reference = Reference::new(segment, accuracy);
+    measure(&reference.points, reference.chord, cubics, accuracy)
+}
+
+/// Fits the part of `segment` between arc lengths `s0` and `s1`, appending its cubics to `out`;
+/// returns their measured error. A part kurbo's fit misses (measured beyond `accuracy`) is
+/// halved by arc length, down to [`MAX_SPLIT_DEPTH`] levels.
+fn fit_part(
+    segment: &LacSegment,
+    reference: &Reference,
+    (s0, s1): (f64, f64),
+    accuracy: f64,
+    depth: usize,
+    out: &mut Vec<CubicBez>,
+) -> f64 {
+    let source = LacCurve::part(segment, s0, s1);
+    let mut cubics = cubics_of(&kurbo::fit_to_bezpath(&source, accuracy));
+    let (a, b) = (segment.point(s0), segment.point(s1));
+    if let Some(first) = cubics.first_mut() {
+        first.p0 = a;
+    }
+    if let Some(last) = cubics.last_mut() {
+        last.p3 = b;
+    }
+    if cubics.is_empty() {
+        cubics.push(line_cubic(a, b));
+    }
+    let error = measure(&reference.part(segment, s0, s1), reference.chord, &cubics, accuracy);
+    if error <= accuracy || depth >= MAX_SPLIT_DEPTH {
+        out.extend(cubics);
+        return error;
+    }
+    let mid = 0.5 * (s0 + s1);
+    let left = fit_part(segment, reference, (s0, mid), accuracy, depth + 1, out);
+    let right = fit_part(segment, reference, (mid, s1), accuracy, depth + 1, out);
+    left.max(right)
+}
+
 /// `segment` as cubic Béziers within `accuracy` of it (measured; see the module documentation).
 ///
 /// A line is one exact cubic (error 0). Otherwise kurbo's [`kurbo::fit_to_bezpath`] fits the
-/// segment (recursive halving by arc length; its optimising sibling
-/// `fit_to_bezpath_opt` can panic in kurbo 0.13, kurbo issue #601, and saves few cubics on
-/// monotone-curvature curves). The ends are then set to the segment's exact end points, so
+/// segment (recursive halving by arc length; its optimising sibling `fit_to_bezpath_opt` can
+/// panic in kurbo 0.13, kurbo issue #601). kurbo judges its fit from 20 samples per cubic,
+/// which a hook (curvature falling by orders of magnitude within the first percent of the
+/// length) can fool; so the result is measured ([`bezier_error`]), and a part measured beyond
+/// the accuracy is halved and fitted again. The ends are the segment's exact end points, so
 /// consecutive segments share their joints bit for bit. A non-positive or non-finite
-/// `accuracy` is replaced by a thousandth of the segment's length.
+/// `accuracy` is replaced by [`FALLBACK_ACCURACY_FRACTION`] of the segment's length.
 pub fn segment_beziers(segment: &LacSegment, accuracy: f64) -> SegmentBeziers {
     if segment.kappa0() == 0.0 && segment.kappa1() == 0.0 {
         return SegmentBeziers {
@@ -199,35 +291,17 @@ pub fn segment_beziers(segment: &LacSegment, accuracy: f64) -> SegmentBeziers {
     } else {
         FALLBACK_ACCURACY_FRACTION * segment.length()
     };
-    let source = LacCurve::new(segment);
-    let mut target = accuracy;
-    let mut best: Option<SegmentBeziers> = None;
-    for _ in 0..=MAX_REFITS {
-        let mut cubics = cubics_of(&kurbo::fit_to_bezpath(&source, target));
-        if let Some(first) = cubics.first_mut() {
-            first.p0 = segment.start();
-        }
-        if let Some(last) = cubics.last_mut() {
-            last.p3 = segment.end();
-        }
-        if cubics.is_empty() {
-            cubics.push(line_cubic(segment.start(), segment.end()));
-        }
-        let error = bezier_error(segment, &cubics, accuracy);
-        let fit = SegmentBeziers { cubics, error };
-        let done = error <= accuracy;
-        if best.as_ref().is_none_or(|b| fit.error < b.error) {
-            best = Some(fit);
-        }
-        if done {
-            break;
-        }
-        target *= 0.5;
-    }
-    best.unwrap_or_else(|| SegmentBeziers {
-        cubics: vec![line_cubic(segment.start(), segment.end())],
-        error: f64::INFINITY,
-    })
+    let reference = Reference::new(segment, accuracy);
+    let mut cubics = Vec::new();
+    let error = fit_part(
+        segment,
+        &reference,
+        (0.0, segment.length()),
+        accuracy,
+        0,
+        &mut cubics,
+    );
+    SegmentBeziers { cubics, error }
 }
 
 /// The accuracy used when the one given is not a positive number: this fraction of the

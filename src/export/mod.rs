@@ -10,7 +10,7 @@ mod svg;
 
 pub use bezier::{
     CHECK_POINTS_PER_CUBIC, DEFAULT_ACCURACY_FRACTION, FALLBACK_ACCURACY_FRACTION, LacCurve,
-    MAX_REFITS, REFERENCE_CHORD_FRACTION, SegmentBeziers, bezier_error, segment_beziers,
+    MAX_SPLIT_DEPTH, REFERENCE_CHORD_FRACTION, SegmentBeziers, bezier_error, segment_beziers,
 };
 pub use curve_json::{
     BSplineRecord, CURVE_FORMAT_NAME, CURVE_FORMAT_VERSION, ChainRecord, CurveEntry, CurveFile,
@@ -23,7 +23,7 @@ pub use dxf::{
 };
 pub use schema::{CURVE_SCHEMA_V1, STROKE_SCHEMA_V1};
 pub use svg::{
-    ALPHA_BLUE_END, ALPHA_BLUE_RGB, ALPHA_RED_END, ALPHA_RED_RGB, ALPHA_ZERO_RGB,
+    ALPHA_BLUE_END, ALPHA_BLUE_RGB, ARC_AS_LINE_FRACTION, ALPHA_RED_END, ALPHA_RED_RGB, ALPHA_ZERO_RGB,
     LAC_CHORD_ERROR_FRACTION, MAX_ARC_TURNING, MAX_POINTS_PER_SEGMENT, MAX_TURNING_PER_STEP,
     NO_ALPHA_RGB, SVG_METADATA_NAMESPACE, SvgElement, SvgExport, SvgOptions, SvgPieceReport,
     SvgSegmentReport, alpha_colour, chain_path_data, export_accuracy, lac_spacing, svg_document,

@@ -20,7 +20,8 @@
 //! * a line (κ0 = κ1 = 0): one `L`, exact;
 //! * a circular arc (κ0 = κ1 ≠ 0): `A` commands of radius 1/|κ|, each turning at most
 //!   [`MAX_ARC_TURNING`], exact (sweep flag 1 for κ > 0: the angle increases, as SVG counts it
-//!   in the data's own coordinates);
+//!   in the data's own coordinates); an arc within [`ARC_AS_LINE_FRACTION`] of the accuracy of
+//!   its chord is a line instead;
 //! * a log-aesthetic spiral: cubic Béziers from kurbo's curve fitting ([`segment_beziers`]),
 //!   measured within [`SvgOptions::accuracy`] of the exact segment.
 //!
@@ -41,6 +42,12 @@ use crate::stroke::{StrokeFile, Units};
 use kurbo::{CubicBez, ParamCurveExtrema, Rect};
 
 use super::bezier::{DEFAULT_ACCURACY_FRACTION, segment_beziers};
+
+/// A circular arc whose sagitta (distance from its chord) is at most this fraction of the
+/// accuracy is written as a line: its radius is then so large compared with its chord (about
+/// 10⁵ times for a 30 mm arc at an accuracy of 0.01 mm) that readers reconstructing the centre
+/// from the end points lose most digits, and the line is within a thousandth of the accuracy.
+pub const ARC_AS_LINE_FRACTION: f64 = 1e-3;
 
 /// The XML namespace of kansei's SVG metadata elements.
 pub const SVG_METADATA_NAMESPACE: &str = "urn:kansei:svg-metadata:1";
@@ -343,6 +350,17 @@ fn push_cubic(out: &mut String, c: &CubicBez) {
     }
 }
 
+/// The largest distance between a circular-arc segment and its chord:
+/// r·(1 − cos(φ/2)) = 2r·sin²(φ/4), φ the turning, r the radius (for φ ≤ π; beyond, at least r).
+fn arc_sagitta(segment: &LacSegment) -> f64 {
+    let kappa = segment.kappa0().abs();
+    let turning = kappa * segment.length();
+    if turning >= std::f64::consts::PI {
+        return 1.0 / kappa;
+    }
+    2.0 * (0.25 * turning).sin().powi(2) / kappa
+}
+
 /// One segment's path commands (without the initial move-to), and its report.
 fn segment_commands(
     segment: &LacSegment,
@@ -361,6 +379,18 @@ fn segment_commands(
             element: SvgElement::Line,
             commands: 1,
             error: 0.0,
+        }
+    } else if k0 == k1 && arc_sagitta(segment) <= ARC_AS_LINE_FRACTION * accuracy {
+        // So nearly straight that the arc's radius is ill-conditioned: a line, within a
+        // thousandth of the accuracy.
+        d.push_str(" L");
+        push_xy(&mut d, segment.end());
+        bounds.add(segment.start(), pad);
+        bounds.add(segment.end(), pad);
+        SvgSegmentReport {
+            element: SvgElement::Line,
+            commands: 1,
+            error: arc_sagitta(segment),
         }
     } else if k0 == k1 {
         let turning = (k0 * segment.length()).abs();
