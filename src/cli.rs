@@ -620,12 +620,13 @@ fn fit(args: &FitArgs, out: &mut dyn std::io::Write) -> Result<(), CliError> {
             let options = DxfOptions {
                 accuracy: args.export_accuracy,
             };
-            let bytes = dxf_drawing(&output, &options)
-                .to_bytes()
-                .map_err(|e| CliError::Export {
-                    path: path.clone(),
-                    message: e.to_string(),
-                })?;
+            let bytes =
+                dxf_drawing(&output, &options)
+                    .to_bytes()
+                    .map_err(|e| CliError::Export {
+                        path: path.clone(),
+                        message: e.to_string(),
+                    })?;
             write_atomic(&path, &bytes)?;
         }
         match &args.json {

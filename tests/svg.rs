@@ -85,7 +85,10 @@ fn chain_within_the_accuracy_with_exact_lines_and_arcs() {
         let pieces = parse_path(&d);
         let counts: Vec<usize> = reports.iter().map(|r| r.commands).collect();
         let mut cubics = Vec::new();
-        for ((seg, report), pieces) in chain.iter().zip(&reports).zip(per_segment(&pieces, &counts))
+        for ((seg, report), pieces) in chain
+            .iter()
+            .zip(&reports)
+            .zip(per_segment(&pieces, &counts))
         {
             let expected = match (seg.kappa0(), seg.kappa1()) {
                 (a, b) if a == 0.0 && b == 0.0 => SvgElement::Line,
@@ -158,7 +161,10 @@ fn the_adapter_samples_position_and_arc_length_derivative() {
         let h = 1e-6;
         if t > h && t < 1.0 - h {
             let fd = (curve.sample_pt_deriv(t + h).0 - curve.sample_pt_deriv(t - h).0) / (2.0 * h);
-            assert!((fd - d).hypot() <= 1e-5 * s.length(), "{t}: {fd:?} vs {d:?}");
+            assert!(
+                (fd - d).hypot() <= 1e-5 * s.length(),
+                "{t}: {fd:?} vs {d:?}"
+            );
         }
         let sample = curve.sample_pt_tangent(t, 1.0);
         assert_eq!(sample.p, p);
@@ -248,13 +254,22 @@ fn document_structure_and_metadata() {
         assert_eq!(pieces.len() as f64, announced);
     }
     // Optional layers.
-    assert_eq!(group(&elements, "samples").1.len(), file.strokes[0].samples.len());
+    assert_eq!(
+        group(&elements, "samples").1.len(),
+        file.strokes[0].samples.len()
+    );
     assert_eq!(group(&elements, "bspline").1.len(), out.curves.len());
     let (_, alpha) = group(&elements, "alpha");
-    assert_eq!(alpha.len(), chains.iter().map(|c| c.segments.len()).sum::<usize>());
+    assert_eq!(
+        alpha.len(),
+        chains.iter().map(|c| c.segments.len()).sum::<usize>()
+    );
     for (e, cs) in alpha.iter().zip(chains.iter().flat_map(|c| &c.segments)) {
         let [r, g, b] = alpha_colour(cs.segment.alpha());
-        assert_eq!(e.attr("stroke"), Some(format!("#{r:02x}{g:02x}{b:02x}").as_str()));
+        assert_eq!(
+            e.attr("stroke"),
+            Some(format!("#{r:02x}{g:02x}{b:02x}").as_str())
+        );
     }
     let splits: usize = out.curves.iter().map(|c| c.spans.splits.len()).sum();
     assert_eq!(group(&elements, "splits").1.len(), splits);
@@ -285,7 +300,11 @@ fn layers_are_off_by_default_and_units_set_the_size() {
     assert_eq!(fine.accuracy, 0.0005);
     assert!(fine.max_error() <= 0.0005);
     let cubics = |e: &kansei::export::SvgExport| -> usize {
-        e.pieces.iter().flat_map(|p| &p.segments).map(|s| s.commands).sum()
+        e.pieces
+            .iter()
+            .flat_map(|p| &p.segments)
+            .map(|s| s.commands)
+            .sum()
     };
     let coarse = svg_document(&out, None, &SvgOptions::default());
     assert!(cubics(&fine) >= cubics(&coarse));
@@ -312,4 +331,3 @@ fn colour_map() {
         assert!((f64::from(mid[i]) - m).abs() <= 0.5);
     }
 }
-

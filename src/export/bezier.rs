@@ -127,7 +127,12 @@ fn cubics_of(path: &BezPath) -> Vec<CubicBez> {
         match *el {
             PathEl::MoveTo(p) => pen = p,
             PathEl::LineTo(p) => {
-                out.push(CubicBez::new(pen, pen.lerp(p, 1.0 / 3.0), pen.lerp(p, 2.0 / 3.0), p));
+                out.push(CubicBez::new(
+                    pen,
+                    pen.lerp(p, 1.0 / 3.0),
+                    pen.lerp(p, 2.0 / 3.0),
+                    p,
+                ));
                 pen = p;
             }
             PathEl::QuadTo(p1, p2) => {
@@ -258,7 +263,12 @@ fn fit_part(
     if cubics.is_empty() {
         cubics.push(line_cubic(a, b));
     }
-    let error = measure(&reference.part(segment, s0, s1), reference.chord, &cubics, accuracy);
+    let error = measure(
+        &reference.part(segment, s0, s1),
+        reference.chord,
+        &cubics,
+        accuracy,
+    );
     if error <= accuracy || depth >= MAX_SPLIT_DEPTH {
         out.extend(cubics);
         return error;

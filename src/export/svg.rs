@@ -130,7 +130,6 @@ pub fn alpha_colour(alpha: Option<f64>) -> [u8; 3] {
     [mix(0), mix(1), mix(2)]
 }
 
-
 /// Options of [`svg_document`]; lengths are in the data's units. Defaults per unit:
 /// [`SvgOptions::for_units`]; `Default` is that of millimetres.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -197,7 +196,13 @@ impl SvgOptions {
     }
 
     /// Sets the four optional layers (samples, B-spline, α, splits).
-    pub const fn with_layers(mut self, samples: bool, bspline: bool, alpha: bool, splits: bool) -> Self {
+    pub const fn with_layers(
+        mut self,
+        samples: bool,
+        bspline: bool,
+        alpha: bool,
+        splits: bool,
+    ) -> Self {
         self.show_samples = samples;
         self.show_bspline = bspline;
         self.show_alpha = alpha;
@@ -462,7 +467,9 @@ fn segment_metadata(
     report: &SvgSegmentReport,
 ) -> String {
     let s = &chain_segment.segment;
-    let alpha = s.alpha().map_or_else(|| "null".to_owned(), |a| a.to_string());
+    let alpha = s
+        .alpha()
+        .map_or_else(|| "null".to_owned(), |a| a.to_string());
     format!(
         "<kansei:segment index=\"{index}\" alpha=\"{alpha}\" length=\"{}\" kappa0=\"{}\" \
          kappa1=\"{}\" max-deviation=\"{}\" samples=\"{} {}\" element=\"{}\" commands=\"{}\" \
@@ -556,7 +563,10 @@ pub fn svg_document(
     let mut body = String::new();
     if o.show_samples {
         body.push_str("<g id=\"samples\" fill=\"#7f7f7f\" stroke=\"none\">\n");
-        let samples = strokes.iter().flat_map(|f| &f.strokes).flat_map(|s| &s.samples);
+        let samples = strokes
+            .iter()
+            .flat_map(|f| &f.strokes)
+            .flat_map(|s| &s.samples);
         for p in samples.map(|s| s.point()).filter(|p| finite(*p)) {
             bounds.add(p, o.sample_radius);
             let _ = writeln!(
@@ -667,4 +677,3 @@ pub fn svg_document(
     svg.push_str("</svg>\n");
     SvgExport { svg, ..export }
 }
-
