@@ -6,8 +6,8 @@
 mod common;
 
 use common::export::{
-    Element, children, group, index_of, parse_attr, parse_path, parse_xml, two_sided_distance,
-    view_box,
+    Element, Piece, children, group, index_of, parse_attr, parse_path, parse_xml,
+    two_sided_distance, view_box,
 };
 use kansei::export::{
     ALPHA_BLUE_RGB, ALPHA_RED_RGB, ALPHA_ZERO_RGB, LacCurve, MAX_ARC_TURNING, NO_ALPHA_RGB,
@@ -133,6 +133,40 @@ fn finer_accuracy_needs_no_fewer_cubics() {
 }
 
 #[test]
+fn a_hook_that_fools_kurbo_is_subdivided_until_measured_within_the_accuracy() {
+    // From a fixture (perfect-freehand-hey): curvature falls from 1.86 to 1e-243 per px, nearly
+    // all of it within the first pixel of 18.
+    let hook = seg(
+        Point::new(658.48, 417.26),
+        1.82832469543429,
+        18.448114291424673,
+        Some(-0.004510292272824147),
+        -1.8595824788478208,
+        -1.1222026544134617e-243,
+    );
+    let accuracy = 0.05;
+    // kurbo alone accepts a single cubic far from the curve (its 20 samples miss the hook).
+    let alone = kurbo::fit_to_bezpath(&LacCurve::new(&hook), accuracy);
+    let alone: Vec<Piece> = alone
+        .segments()
+        .map(|s| Piece::Cubic(s.to_cubic()))
+        .collect();
+    assert!(two_sided_distance(&hook, &alone) > 100.0 * accuracy);
+    // Measured and subdivided, it is within the accuracy.
+    let fit = segment_beziers(&hook, accuracy);
+    assert!(fit.error <= accuracy, "{}", fit.error);
+    let pieces: Vec<Piece> = fit.cubics.iter().map(|c| Piece::Cubic(*c)).collect();
+    let error = two_sided_distance(&hook, &pieces);
+    assert!(error <= accuracy, "{error}");
+    // The cubics join end to end, from the segment's start to its end.
+    assert_eq!(fit.cubics[0].p0, hook.start());
+    assert_eq!(fit.cubics[fit.cubics.len() - 1].p3, hook.end());
+    for w in fit.cubics.windows(2) {
+        assert_eq!(w[0].p3, w[1].p0);
+    }
+}
+
+#[test]
 fn long_arcs_are_cut_into_quarter_turns() {
     for turns in [0.1, 0.25, 0.26, 0.5, 0.99, 1.0, 1.7] {
         let kappa: f64 = -0.2;
@@ -248,10 +282,17 @@ fn document_structure_and_metadata() {
             assert_eq!(parse_attr(e, "max-deviation"), cs.max_deviation);
             assert!(parse_attr(e, "error") <= export.accuracy);
         }
-        // The commands of the path are those the metadata announces.
+        // The commands of the path are those the metadata announces, and each segment's lie
+        // within the accuracy of it (measured here, independently).
         let pieces = parse_path(path.attr("d").expect("d"));
-        let announced: f64 = segs.iter().map(|e| parse_attr(e, "commands")).sum();
-        assert_eq!(pieces.len() as f64, announced);
+        let counts: Vec<usize> = segs
+            .iter()
+            .map(|e| parse_attr(e, "commands") as usize)
+            .collect();
+        for (cs, mine) in chain.segments.iter().zip(per_segment(&pieces, &counts)) {
+            let error = two_sided_distance(&cs.segment, &mine);
+            assert!(error <= export.accuracy, "{error} > {}", export.accuracy);
+        }
     }
     // Optional layers.
     assert_eq!(

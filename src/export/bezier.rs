@@ -30,8 +30,8 @@ use super::svg::lac_spacing;
 pub const DEFAULT_ACCURACY_FRACTION: f64 = 0.1;
 
 /// How many times [`segment_beziers`] may halve a part of a segment whose fit measures beyond
-/// the accuracy: 2¹² parts bound the work; a segment still beyond it keeps its best fit, with the
-/// measured error reported (never observed on the fixtures).
+/// the accuracy: 2¹² parts bound the work; a part still beyond it at that depth is kept as
+/// fitted, and its measured error reported (not observed on the fixtures).
 pub const MAX_SPLIT_DEPTH: usize = 12;
 
 /// Points measured on each cubic when checking it against the segment (besides its ends, which
