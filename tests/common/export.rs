@@ -350,14 +350,26 @@ pub fn project(segment: &LacSegment, grid: &[(f64, Point)], q: Point) -> (f64, f
     (s, f(s).min(best))
 }
 
-/// The projection grid of `segment` (arc length and point).
+/// The projection grid of `segment` (arc length and point): steps of at most 1/400 of the
+/// length and a fifth of the radius of curvature anywhere within the step (|κ| is monotonic
+/// along an LAC, so its largest value on a step is at one of the step's ends).
 pub fn grid_of(segment: &LacSegment) -> Vec<(f64, Point)> {
-    let kappa = segment.kappa0().abs().max(segment.kappa1().abs());
-    let mut spacing = segment.length() / 400.0;
-    if kappa > 0.0 {
-        spacing = spacing.min(0.2 / kappa);
+    const TURN: f64 = 0.2;
+    let length = segment.length();
+    let limit = |s: f64| TURN / segment.kappa(s).abs();
+    let mut grid = Vec::new();
+    let mut s = 0.0;
+    while s < length {
+        grid.push((s, segment.point(s)));
+        let mut h = (length / 400.0).min(limit(s));
+        // Shrink until the far end's curvature allows the step too.
+        while limit(s + h) < h {
+            h *= 0.5;
+        }
+        s += h;
     }
-    segment.samples(spacing).map(|s| (s.s, s.point)).collect()
+    grid.push((length, segment.end()));
+    grid
 }
 
 /// The two-sided distance between `pieces` and `segment`: 24 points inside each piece
