@@ -1,8 +1,8 @@
 """Audits DXF files with ezdxf (Debian's python3-ezdxf) for tests/export_fixtures.rs.
 
-Usage: dxf_audit.py FILE=SPLINES ...  Each FILE must load strictly, pass ezdxf's audit without
-errors, say $INSUNITS, and hold exactly SPLINES SPLINE entities, each of degree 3 with
-len(knots) == len(control points) + 4. Prints one line per file; exits 1 on any failure.
+Usage: dxf_audit.py FILE=SPLINES,INSUNITS ...  Each FILE must load, pass ezdxf's audit without
+errors, have $INSUNITS == INSUNITS, and hold exactly SPLINES SPLINE entities, each of degree 3
+with len(knots) == len(control points) + 4. Prints one line per file; exits 1 on any failure.
 """
 
 import sys
@@ -10,12 +10,12 @@ import sys
 import ezdxf
 
 
-def audit(path, expected):
+def audit(path, expected, units):
     doc = ezdxf.readfile(path)
     auditor = doc.audit()
     problems = [f"audit error: {e.message}" for e in auditor.errors]
-    if doc.header.get("$INSUNITS") is None:
-        problems.append("no $INSUNITS")
+    if doc.header.get("$INSUNITS") != units:
+        problems.append(f"$INSUNITS {doc.header.get('$INSUNITS')}, expected {units}")
     splines = doc.modelspace().query("SPLINE")
     if len(splines) != expected:
         problems.append(f"{len(splines)} splines, expected {expected}")
@@ -34,7 +34,8 @@ def main(args):
     ok = True
     for arg in args:
         path, _, expected = arg.rpartition("=")
-        ok = audit(path, int(expected)) and ok
+        splines, units = expected.split(",")
+        ok = audit(path, int(splines), int(units)) and ok
     return 0 if ok else 1
 
 

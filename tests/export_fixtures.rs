@@ -286,11 +286,25 @@ fn every_fixture_dxf_passes_the_ezdxf_audit() {
     };
     let dir = dxf_dir();
     let mut args = vec![format!("{}/tests/dxf_audit.py", env!("CARGO_MANIFEST_DIR"))];
-    for (name, _, _, out) in fixtures() {
+    // The fixtures (px) and a planted spiral drawn in millimetres ($INSUNITS 4).
+    let segment = common::lac::planted_segment(-1.0, 60.0, 0.2, 1.5);
+    let stroke = common::lac::pen_stroke(&segment, 300, 0, 0.02, 7);
+    let mm = StrokeFile::new(Units::Mm, vec![stroke]);
+    let mm = fit_file(&mm, &PipelineOptions::default()).expect("fit");
+    let outputs = fixtures()
+        .iter()
+        .map(|(name, _, _, out)| (name.as_str(), out))
+        .chain([("planted-mm", &mm)]);
+    for (name, out) in outputs {
         let export = dxf_drawing(out, &DxfOptions::default());
         let path = dir.join(format!("{name}.audit.dxf"));
         std::fs::write(&path, export.to_bytes().expect("writes")).expect("write");
-        args.push(format!("{}={}", path.display(), export.splines.len()));
+        let units = if out.units == Units::Mm { 4 } else { 0 };
+        args.push(format!(
+            "{}={},{units}",
+            path.display(),
+            export.splines.len()
+        ));
     }
     let run = std::process::Command::new(&python)
         .args(&args)
@@ -305,7 +319,7 @@ fn every_fixture_dxf_passes_the_ezdxf_audit() {
             .lines()
             .filter(|l| l.contains(" 0 audit errors"))
             .count(),
-        fixtures().len()
+        fixtures().len() + 1
     );
 }
 
