@@ -14,7 +14,7 @@ use common::export::{
 };
 use kansei::export::{
     CURVE_SCHEMA_V1, CurveFile, CurveFormatError, DxfOptions, ExportOptions, STROKE_SCHEMA_V1,
-    SvgOptions, dxf_drawing, svg_document,
+    SVG_METADATA_NAMESPACE, SvgOptions, dxf_drawing, svg_document,
 };
 use kansei::lac::LacSegment;
 use kansei::pipeline::{FitOutput, PipelineOptions, fit_file};
@@ -86,6 +86,14 @@ fn svg_paths_lie_within_the_accuracy_of_the_chain() {
         let accuracy = 0.1 * out.tolerance;
         assert_eq!(export.accuracy, accuracy);
         let elements = parse_xml(&export.svg).unwrap_or_else(|e| panic!("{name}: {e}"));
+        // A full XML parser (with namespaces) agrees: the metadata is in kansei's namespace.
+        let doc = roxmltree::Document::parse(&export.svg).unwrap_or_else(|e| panic!("{name}: {e}"));
+        let segments = doc
+            .descendants()
+            .filter(|n| n.tag_name().name() == "segment")
+            .inspect(|n| assert_eq!(n.tag_name().namespace(), Some(SVG_METADATA_NAMESPACE)))
+            .count();
+        assert_eq!(segments, chains(out).iter().map(Vec::len).sum::<usize>());
         let [_, _, w, h] = view_box(&elements);
         if file.units == Units::Mm {
             assert_eq!(elements[0].attr("width"), Some(format!("{w}mm").as_str()));
