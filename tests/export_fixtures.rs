@@ -1,6 +1,7 @@
 //! Every fixture through every export: the SVG's paths, parsed back, and the DXF's splines, read
 //! back with the `dxf` crate, lie within the stated accuracy of the exact LAC chain (measured
-//! independently of the library's own measure); the DXF files pass ezdxf's audit; the stroke
+//! independently of the library's own measure); the DXF files pass ezdxf's audit and the SVG
+//! files render with librsvg; the stroke
 //! files and the fit outputs validate against the checked-in JSON Schemas; curve JSON round
 //! trips byte for byte and every f64 bit for bit; the readers dispatch on the version.
 
@@ -329,6 +330,50 @@ fn every_fixture_dxf_passes_the_ezdxf_audit() {
             .count(),
         fixtures().len() + 1
     );
+}
+
+#[test]
+fn every_fixture_svg_renders_with_librsvg() {
+    let available = std::process::Command::new("rsvg-convert")
+        .arg("--version")
+        .stdin(std::process::Stdio::null())
+        .output()
+        .is_ok_and(|o| o.status.success());
+    if !available {
+        // .ci/run installs librsvg2-bin and sets KANSEI_REQUIRE_RSVG=1 when it can.
+        if std::env::var_os("KANSEI_REQUIRE_RSVG").is_some() {
+            panic!("KANSEI_REQUIRE_RSVG is set but rsvg-convert does not run");
+        }
+        eprintln!("skipped: no rsvg-convert (install Debian's librsvg2-bin; .ci/run does)");
+        return;
+    }
+    let dir = std::path::Path::new(env!("CARGO_TARGET_TMPDIR")).join("export-fixtures-svg");
+    std::fs::create_dir_all(&dir).expect("temp dir");
+    for (name, _, file, out) in fixtures() {
+        let options = SvgOptions::for_units(file.units).with_layers(true, true, true, true);
+        let svg = dir.join(format!("{name}.svg"));
+        let png = dir.join(format!("{name}.png"));
+        std::fs::write(&svg, svg_document(out, Some(file), &options).svg).expect("write");
+        let run = std::process::Command::new("rsvg-convert")
+            .args(["--width", "800", "--output"])
+            .arg(&png)
+            .arg(&svg)
+            .stdin(std::process::Stdio::null())
+            .output()
+            .expect("rsvg-convert runs");
+        assert!(
+            run.status.success() && run.stderr.is_empty(),
+            "{name}: {}",
+            String::from_utf8_lossy(&run.stderr)
+        );
+        let image = std::fs::read(&png).expect("png written");
+        assert!(image.starts_with(b"\x89PNG\r\n\x1a\n"), "{name}: not a PNG");
+        // The IHDR chunk: the requested width.
+        assert_eq!(
+            u32::from_be_bytes([image[16], image[17], image[18], image[19]]),
+            800
+        );
+    }
 }
 
 fn validator(schema: &str) -> jsonschema::Validator {
