@@ -6,7 +6,7 @@ use std::time::Instant;
 
 use clap::{Args, Parser, Subcommand};
 
-use crate::export::{CurveFile, ExportOptions, SvgLayers, SvgOptions, quick_look_svg};
+use crate::export::{CurveFile, DxfOptions, ExportOptions, SvgOptions, dxf_drawing, svg_document};
 use crate::lac::AlphaChoice;
 use crate::pipeline::{PipelineOptions, fit_file};
 use crate::stroke::{StrokeError, StrokeFile};
@@ -132,10 +132,23 @@ pub struct FitArgs {
     /// receives `<input stem>.curve.json` for each.
     #[arg(long)]
     pub json: Option<PathBuf>,
-    /// Also write a quick-look SVG (samples, B-spline, LAC segments coloured by α, splits).
-    /// With several inputs, a directory that receives `<input stem>.svg` for each.
+    /// Also write an SVG: one path per fitted piece, lines and arcs exact, spirals as cubic
+    /// Béziers within --export-accuracy. With several inputs, a directory that receives
+    /// `<input stem>.svg` for each.
     #[arg(long)]
     pub svg: Option<PathBuf>,
+    /// Extra SVG layers, comma-separated: samples, bspline, alpha (segments coloured by α),
+    /// splits.
+    #[arg(long, value_delimiter = ',', value_parser = ["samples", "bspline", "alpha", "splits"])]
+    pub svg_layers: Vec<String>,
+    /// Also write a DXF: one degree-3 SPLINE per fitted piece, within --export-accuracy. With
+    /// several inputs, a directory that receives `<input stem>.dxf` for each.
+    #[arg(long)]
+    pub dxf: Option<PathBuf>,
+    /// Largest distance between the exported SVG/DXF curves and the exact LAC chain, in the
+    /// file's units [default: a tenth of the tolerance].
+    #[arg(long, alias = "svg-accuracy")]
+    pub export_accuracy: Option<f64>,
     /// Include each segment's logarithmic curvature graphs (LAC and B-spline) in the JSON.
     #[arg(long)]
     pub lcg: bool,
@@ -188,6 +201,14 @@ pub enum CliError {
     /// A recording could not be read.
     #[error("{path}: {message}")]
     Capture {
+        /// The file.
+        path: PathBuf,
+        /// What went wrong.
+        message: String,
+    },
+    /// An export could not be produced.
+    #[error("{path}: {message}")]
+    Export {
         /// The file.
         path: PathBuf,
         /// What went wrong.
@@ -514,8 +535,15 @@ fn fit(args: &FitArgs, out: &mut dyn std::io::Write) -> Result<(), CliError> {
             "--alpha must be a finite number, got {alpha}"
         )));
     }
+    if let Some(a) = args.export_accuracy
+        && !(a.is_finite() && a > 0.0)
+    {
+        return Err(CliError::Usage(format!(
+            "--export-accuracy must be a positive number, got {a}"
+        )));
+    }
     let several = args.inputs.len() > 1;
-    for dir in [&args.json, &args.svg]
+    for dir in [&args.json, &args.svg, &args.dxf]
         .into_iter()
         .flatten()
         .filter(|_| several)
@@ -573,10 +601,33 @@ fn fit(args: &FitArgs, out: &mut dyn std::io::Write) -> Result<(), CliError> {
             }
         }
         if let Some(path) = &args.svg {
-            write_atomic(
-                &target(input, path, "svg"),
-                quick_look(&file, &output).as_bytes(),
-            )?;
+            let layer = |name: &str| args.svg_layers.iter().any(|l| l == name);
+            let options = SvgOptions {
+                accuracy: args.export_accuracy,
+                ..SvgOptions::for_units(file.units)
+            }
+            .with_layers(
+                layer("samples"),
+                layer("bspline"),
+                layer("alpha"),
+                layer("splits"),
+            );
+            let svg = svg_document(&output, Some(&file), &options);
+            write_atomic(&target(input, path, "svg"), svg.svg.as_bytes())?;
+        }
+        if let Some(path) = &args.dxf {
+            let path = target(input, path, "dxf");
+            let options = DxfOptions {
+                accuracy: args.export_accuracy,
+            };
+            let bytes =
+                dxf_drawing(&output, &options)
+                    .to_bytes()
+                    .map_err(|e| CliError::Export {
+                        path: path.clone(),
+                        message: e.to_string(),
+                    })?;
+            write_atomic(&path, &bytes)?;
         }
         match &args.json {
             None => {
@@ -596,34 +647,6 @@ fn fit(args: &FitArgs, out: &mut dyn std::io::Write) -> Result<(), CliError> {
         }
     }
     Ok(())
-}
-
-/// The quick-look SVG of a fitted file.
-fn quick_look(file: &StrokeFile, output: &crate::pipeline::FitOutput) -> String {
-    let samples: Vec<Vec<crate::geom::Point>> = file.strokes.iter().map(|s| s.points()).collect();
-    let bsplines: Vec<Vec<crate::geom::ParamBez>> = output
-        .curves
-        .iter()
-        .map(|c| c.bspline.curve.to_beziers())
-        .collect();
-    let segments: Vec<crate::lac::LacSegment> = output
-        .curves
-        .iter()
-        .filter_map(|c| c.chain.as_ref())
-        .flat_map(|ch| ch.segments.iter().map(|s| s.segment))
-        .collect();
-    let splits: Vec<crate::geom::Point> = output
-        .curves
-        .iter()
-        .flat_map(|c| c.spans.splits.iter().map(|s| s.point))
-        .collect();
-    let layers = SvgLayers {
-        samples: &samples,
-        bsplines: &bsplines,
-        segments: &segments,
-        splits: &splits,
-    };
-    quick_look_svg(&layers, &SvgOptions::for_units(file.units))
 }
 
 /// Writes through a temporary file and a rename, so a reader never sees half a file.

@@ -11,7 +11,8 @@
 //!    monotonic curvature.
 //! 5. [`chain`]: one log-aesthetic segment ([`lac`]) per span with the best α, refined
 //!    (Levenberg–Marquardt) into a G1 chain within the tolerance.
-//! 6. [`export`]: `kansei-curve` JSON and a quick-look SVG.
+//! 6. [`export`]: `kansei-curve` JSON (with JSON Schemas), SVG and DXF within a stated error
+//!    of the exact curves.
 //!
 //! [`pipeline`] composes the stages; [`cli`] is the command line.
 //!

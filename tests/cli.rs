@@ -57,18 +57,25 @@ fn fit_writes_a_kansei_curve_document() {
 }
 
 #[test]
-fn alpha_can_be_fixed_or_limited_and_a_quick_look_svg_written() {
+fn alpha_can_be_fixed_or_limited_and_svg_and_dxf_written() {
     let dir = std::env::temp_dir().join(format!("kansei-cli-alpha-{}", std::process::id()));
     let svg = dir.join("spring.svg");
+    let dxf = dir.join("spring.dxf");
     let out = kansei()
         .args([
             "fit",
             &fixture("perfect-freehand-waves"),
             "--alpha",
             "-1",
+            "--svg-layers",
+            "samples,alpha",
+            "--export-accuracy",
+            "0.02",
             "--svg",
         ])
         .arg(&svg)
+        .arg("--dxf")
+        .arg(&dxf)
         .output()
         .expect("runs");
     assert!(
@@ -84,7 +91,23 @@ fn alpha_can_be_fixed_or_limited_and_a_quick_look_svg_written() {
     }
     let text = std::fs::read_to_string(&svg).expect("svg written");
     assert!(text.starts_with("<?xml") || text.starts_with("<svg"));
-    assert!(text.contains("id=\"lac\""));
+    assert!(text.contains("id=\"curves\""));
+    assert!(text.contains("id=\"samples\"") && text.contains("id=\"alpha\""));
+    assert!(!text.contains("id=\"bspline\""));
+    assert!(text.contains("accuracy=\"0.02\""));
+    let drawing = dxf::Drawing::load_file(&dxf).expect("dxf written");
+    assert_eq!(drawing.entities().count(), doc.curves.len());
+    // A bad accuracy is refused.
+    let out = kansei()
+        .args([
+            "fit",
+            &fixture("perfect-freehand-waves"),
+            "--export-accuracy",
+            "-1",
+        ])
+        .output()
+        .expect("runs");
+    assert!(!out.status.success());
     let out = kansei()
         .args([
             "fit",

@@ -242,17 +242,64 @@ impl CurveFile {
         serde_json::to_string_pretty(self).unwrap_or_default()
     }
 
-    /// Parses a document (checking format and version).
-    pub fn from_json(text: &str) -> Result<Self, serde_json::Error> {
-        let file: CurveFile = serde_json::from_str(text)?;
-        if file.format != CURVE_FORMAT_NAME || file.version != CURVE_FORMAT_VERSION {
-            return Err(serde::de::Error::custom(format!(
-                "not a kansei-curve v{CURVE_FORMAT_VERSION} document (format {:?}, version {})",
-                file.format, file.version
-            )));
+    /// Parses a document: reads `format` and `version` first, then the body with the reader of
+    /// that version ([`SUPPORTED_CURVE_VERSIONS`]).
+    ///
+    /// Versioning: each version has its own reader, and every reader produces the newest
+    /// in-memory form ([`CurveFile`]). Today that is v1, read directly. When a v2 comes, the
+    /// v1 structs move to a `v1` module and gain a conversion into the v2 structs, and this
+    /// dispatch gains a `2 =>` arm; v1 files stay readable.
+    pub fn from_json(text: &str) -> Result<Self, CurveFormatError> {
+        let header: CurveHeader = serde_json::from_str(text).map_err(CurveFormatError::Json)?;
+        match header.format.as_deref() {
+            Some(CURVE_FORMAT_NAME) => {}
+            other => {
+                return Err(CurveFormatError::WrongFormat {
+                    found: other.map(str::to_owned),
+                });
+            }
         }
-        Ok(file)
+        match header.version {
+            Some(1) => {
+                let file: CurveFile = serde_json::from_str(text).map_err(CurveFormatError::Json)?;
+                Ok(file)
+            }
+            found => Err(CurveFormatError::UnknownVersion { found }),
+        }
     }
+}
+
+/// The `kansei-curve` versions [`CurveFile::from_json`] reads.
+pub const SUPPORTED_CURVE_VERSIONS: &[u64] = &[1];
+
+/// Just enough of a document to tell its format and version before reading the rest.
+#[derive(Deserialize)]
+struct CurveHeader {
+    format: Option<String>,
+    version: Option<u64>,
+}
+
+/// Why a `kansei-curve` document was refused.
+#[derive(Debug, thiserror::Error)]
+pub enum CurveFormatError {
+    /// Not JSON, or a field has the wrong type or is missing.
+    #[error("not a valid kansei-curve document: {0}")]
+    Json(serde_json::Error),
+    /// The `format` field is missing or names another format.
+    #[error("not a kansei-curve document (format {found:?})")]
+    WrongFormat {
+        /// The `format` found, if any.
+        found: Option<String>,
+    },
+    /// The `version` is missing or not one this library reads.
+    #[error(
+        "kansei-curve version {} is not supported (this build reads versions {SUPPORTED_CURVE_VERSIONS:?}); a newer kansei may read it",
+        found.map_or_else(|| "(missing)".to_owned(), |v| v.to_string())
+    )]
+    UnknownVersion {
+        /// The `version` found, if any.
+        found: Option<u64>,
+    },
 }
 
 impl CurveEntry {

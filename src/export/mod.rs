@@ -1,15 +1,31 @@
-//! Output formats. So far: `kansei-curve` v1 JSON ([`CurveFile`]) and a quick-look SVG
-//! ([`quick_look_svg`]).
+//! Output formats: `kansei-curve` v1 JSON ([`CurveFile`], documented by a JSON Schema in
+//! [`CURVE_SCHEMA_V1`]), SVG ([`svg_document`]) and DXF ([`dxf_drawing`]), the latter two
+//! through cubic Béziers within a stated error of the exact LAC chain ([`segment_beziers`]).
 
+mod bezier;
 mod curve_json;
+mod dxf;
+mod schema;
 mod svg;
 
+pub use bezier::{
+    CHECK_POINTS_PER_CUBIC, DEFAULT_ACCURACY_FRACTION, FALLBACK_ACCURACY_FRACTION, LacCurve,
+    MAX_SPLIT_DEPTH, REFERENCE_CHORD_FRACTION, SegmentBeziers, bezier_error, segment_beziers,
+};
 pub use curve_json::{
     BSplineRecord, CURVE_FORMAT_NAME, CURVE_FORMAT_VERSION, ChainRecord, CurveEntry, CurveFile,
-    ExportOptions, LCG_POINTS, LcgRecord, SegmentRecord, SplitRecord, pieces_between,
+    CurveFormatError, ExportOptions, LCG_POINTS, LcgRecord, SUPPORTED_CURVE_VERSIONS,
+    SegmentRecord, SplitRecord, pieces_between,
 };
+pub use dxf::{
+    DxfExport, DxfOptions, DxfSplineReport, DxfWriteError, bezier_chain_spline, dxf_drawing,
+    dxf_units,
+};
+pub use schema::{CURVE_SCHEMA_V1, STROKE_SCHEMA_V1};
 pub use svg::{
     ALPHA_BLUE_END, ALPHA_BLUE_RGB, ALPHA_RED_END, ALPHA_RED_RGB, ALPHA_ZERO_RGB,
-    LAC_CHORD_ERROR_FRACTION, MAX_POINTS_PER_SEGMENT, MAX_TURNING_PER_STEP, NO_ALPHA_RGB,
-    SvgLayers, SvgOptions, alpha_colour, lac_spacing, quick_look_svg,
+    ARC_AS_LINE_FRACTION, LAC_CHORD_ERROR_FRACTION, MAX_ARC_TURNING, MAX_POINTS_PER_SEGMENT,
+    MAX_TURNING_PER_STEP, NO_ALPHA_RGB, SVG_METADATA_NAMESPACE, SvgElement, SvgExport, SvgOptions,
+    SvgPieceReport, SvgSegmentReport, alpha_colour, chain_path_data, export_accuracy, lac_spacing,
+    svg_document,
 };

@@ -1,27 +1,64 @@
-//! A quick-look SVG of a fit: raw samples, the least-squares B-spline, the LAC segments coloured
-//! by α, and the split points, one `<g>` layer each.
+//! The SVG export: each fitted piece's LAC chain as one `<path>` within a stated error of the
+//! exact curve, with per-segment metadata; optional layers for the raw samples, the B-spline,
+//! the chain coloured by α and the split points.
 //!
 //! ```text
-//! <g id="samples">  one <circle> per sample
-//! <g id="bspline">  one <path> of cubic `C` commands per B-spline (drawn wide and pale, so it
-//!                   shows as a halo around the LAC chain and any disagreement stands out)
-//! <g id="lac">      one <path> polyline per LAC segment, stroke coloured by α ([`alpha_colour`]),
-//!                   with data-alpha, data-length, data-kappa0, data-kappa1
-//! <g id="splits">   one <rect> square per split point
+//! <metadata>          <kansei:export units tolerance accuracy error .../>
+//! <g id="samples">    (optional) one <circle> per sample
+//! <g id="bspline">    (optional) one <path> of `C` commands per B-spline, exact (a B-spline
+//!                     span is a cubic Bézier)
+//! <g id="curves">     one <path> per fitted piece (strokes are cut at corners), data-stroke,
+//!                     data-samples, data-error; its <metadata> holds one <kansei:segment> per
+//!                     LAC segment: alpha, length, kappa0, kappa1, max-deviation (to the samples),
+//!                     element (L, A or C), commands, error (of the export)
+//! <g id="alpha">      (optional) the same commands, one <path> per segment, coloured by α
+//!                     ([`alpha_colour`])
+//! <g id="splits">     (optional) one <rect> square per split point
 //! ```
+//!
+//! How a segment is written:
+//! * a line (κ0 = κ1 = 0): one `L`, exact;
+//! * a circular arc (κ0 = κ1 ≠ 0): `A` commands of radius 1/|κ|, each turning at most
+//!   [`MAX_ARC_TURNING`], exact (sweep flag 1 for κ > 0: the angle increases, as SVG counts it
+//!   in the data's own coordinates); an arc within [`ARC_AS_LINE_FRACTION`] of the accuracy of
+//!   its chord is a line instead;
+//! * a log-aesthetic spiral: cubic Béziers from kurbo's curve fitting ([`segment_beziers`]),
+//!   measured within [`SvgOptions::accuracy`] of the exact segment.
 //!
 //! Coordinates are written as the data's own (no y flip; SVG's y axis points down, so a y-up
 //! drawing appears mirrored top to bottom); the document says so in a comment. The `viewBox` is
-//! the bounding box of everything drawn plus [`SvgOptions::margin`]. Every number is written with
-//! `{}` (shortest round-trip form), the only text is fixed markup, so nothing needs escaping;
-//! elements with a non-finite coordinate are left out.
+//! in the data's units: the bounding box of everything drawn plus [`SvgOptions::margin`]; the
+//! `width`/`height` are in millimetres for mm data (so the drawing has its real size), unitless
+//! (CSS pixels) for px data, absent for device counts. Every number is written with `{}`
+//! (shortest round-trip form, so parsing it back gives the same `f64`); the only text is fixed
+//! markup, so nothing needs escaping; elements with a non-finite coordinate are left out.
 
-use crate::geom::{ParamBez, Point};
+use std::fmt::Write as _;
+
+use crate::geom::Point;
 use crate::lac::LacSegment;
-use crate::stroke::Units;
-use kurbo::{ParamCurveExtrema, Rect};
+use crate::pipeline::FitOutput;
+use crate::stroke::{StrokeFile, Units};
+use kurbo::{CubicBez, ParamCurveExtrema, Rect};
 
-/// The LAC polylines deviate from the exact segments by at most this fraction of
+use super::bezier::{DEFAULT_ACCURACY_FRACTION, segment_beziers};
+
+/// A circular arc whose sagitta (distance from its chord) is at most this fraction of the
+/// accuracy is written as a line: its radius is then so large compared with its chord (about
+/// 10⁵ times for a 30 mm arc at an accuracy of 0.01 mm) that readers reconstructing the centre
+/// from the end points lose most digits, and the line is within a thousandth of the accuracy.
+pub const ARC_AS_LINE_FRACTION: f64 = 1e-3;
+
+/// The XML namespace of kansei's SVG metadata elements.
+pub const SVG_METADATA_NAMESPACE: &str = "urn:kansei:svg-metadata:1";
+
+/// Largest turning (radians) of one `A` command: a quarter turn keeps the large-arc flag 0 and
+/// the end points far apart compared with the radius, so a reader reconstructs the centre
+/// without the ill-conditioning of a half-turn arc (whose two candidate centres coincide).
+pub const MAX_ARC_TURNING: f64 = std::f64::consts::FRAC_PI_2;
+
+/// The polylines that bound an arc when sizing the `viewBox` deviate from the exact
+/// segments by at most this fraction of
 /// [`SvgOptions::line_width`]: a tenth of the line width is hidden inside the drawn line at any
 /// zoom, and keeps the point count modest (step h = √(8·e/κ_max), e the chord error).
 pub const LAC_CHORD_ERROR_FRACTION: f64 = 0.1;
@@ -50,131 +87,7 @@ pub const ALPHA_RED_RGB: [u8; 3] = [178, 24, 43];
 /// Colour of circular arcs and lines (α = null).
 pub const NO_ALPHA_RGB: [u8; 3] = [0, 0, 0];
 
-/// What to draw, in the data's coordinates (all in the same units).
-#[derive(Clone, Copy, Debug, Default)]
-pub struct SvgLayers<'a> {
-    /// Raw samples, one vector per stroke (or piece of stroke).
-    pub samples: &'a [Vec<Point>],
-    /// B-splines, each as its consecutive Bézier pieces.
-    pub bsplines: &'a [Vec<ParamBez>],
-    /// LAC segments (of all chains).
-    pub segments: &'a [LacSegment],
-    /// Split points.
-    pub splits: &'a [Point],
-}
-
-/// Options of [`quick_look_svg`]; lengths are in the data's units. Defaults per unit:
-/// [`SvgOptions::for_units`]; `Default` is that of millimetres.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct SvgOptions {
-    /// Width of the LAC lines (the B-spline halo is twice as wide). mm: 0.25 (a fine pen);
-    /// px: 1; device: 50 (0.25 mm at 200 lines/mm).
-    pub line_width: f64,
-    /// Space around the bounding box of everything drawn. mm: 5; px: 20; device: 1000.
-    pub margin: f64,
-    /// Radius of a sample's dot: 0.6 × the default line width of the units.
-    pub sample_radius: f64,
-    /// Side of a split point's square: 4 × the default line width of the units.
-    pub split_size: f64,
-    /// Draw the samples. Default true.
-    pub show_samples: bool,
-    /// Draw the B-splines. Default true.
-    pub show_bspline: bool,
-    /// Draw the LAC segments. Default true.
-    pub show_lac: bool,
-    /// Draw the split points. Default true.
-    pub show_splits: bool,
-    /// Units of the data: `mm` gives the SVG a physical size in millimetres, `px` a size in
-    /// pixels; `device` counts get no `width`/`height` (a viewer scales the `viewBox` to fit).
-    pub units: Units,
-}
-
-impl SvgOptions {
-    /// The defaults for data in `units` (see the fields).
-    pub const fn for_units(units: Units) -> Self {
-        let (line_width, margin) = match units {
-            Units::Mm => (0.25, 5.0),
-            Units::Px => (1.0, 20.0),
-            Units::Device => (50.0, 1000.0),
-        };
-        SvgOptions {
-            line_width,
-            margin,
-            sample_radius: 0.6 * line_width,
-            split_size: 4.0 * line_width,
-            show_samples: true,
-            show_bspline: true,
-            show_lac: true,
-            show_splits: true,
-            units,
-        }
-    }
-
-    /// Sets [`SvgOptions::line_width`].
-    pub const fn with_line_width(mut self, line_width: f64) -> Self {
-        self.line_width = line_width;
-        self
-    }
-
-    /// Sets [`SvgOptions::margin`].
-    pub const fn with_margin(mut self, margin: f64) -> Self {
-        self.margin = margin;
-        self
-    }
-
-    /// Sets the four `show_*` flags (samples, B-spline, LAC, splits).
-    pub const fn with_layers(
-        mut self,
-        samples: bool,
-        bspline: bool,
-        lac: bool,
-        splits: bool,
-    ) -> Self {
-        self.show_samples = samples;
-        self.show_bspline = bspline;
-        self.show_lac = lac;
-        self.show_splits = splits;
-        self
-    }
-
-    /// The largest distance between a drawn LAC polyline and the exact segment:
-    /// [`LAC_CHORD_ERROR_FRACTION`] × `line_width`.
-    pub fn chord_error(&self) -> f64 {
-        LAC_CHORD_ERROR_FRACTION * self.line_width
-    }
-
-    /// The options with every length that is not a finite non-negative number (line width: not
-    /// positive) replaced by the default of the units.
-    fn sanitized(self) -> Self {
-        let d = SvgOptions::for_units(self.units);
-        let ok = |v: f64, default: f64| {
-            if v.is_finite() && v >= 0.0 {
-                v
-            } else {
-                default
-            }
-        };
-        SvgOptions {
-            line_width: if self.line_width.is_finite() && self.line_width > 0.0 {
-                self.line_width
-            } else {
-                d.line_width
-            },
-            margin: ok(self.margin, d.margin),
-            sample_radius: ok(self.sample_radius, d.sample_radius),
-            split_size: ok(self.split_size, d.split_size),
-            ..self
-        }
-    }
-}
-
-impl Default for SvgOptions {
-    fn default() -> Self {
-        SvgOptions::for_units(Units::Mm)
-    }
-}
-
-/// The arc-length spacing at which [`quick_look_svg`] samples `segment` so that the polyline
+/// The arc-length spacing at which `segment` is sampled so that the polyline
 /// stays within `chord_error` of it.
 ///
 /// A step of arc length h on a curve with |κ| ≤ κ_max (monotonic along an LAC, so κ_max is the
@@ -217,6 +130,190 @@ pub fn alpha_colour(alpha: Option<f64>) -> [u8; 3] {
     [mix(0), mix(1), mix(2)]
 }
 
+/// Options of [`svg_document`]; lengths are in the data's units. Defaults per unit:
+/// [`SvgOptions::for_units`]; `Default` is that of millimetres.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct SvgOptions {
+    /// Largest distance between the written curve and the exact LAC chain. Default `None`:
+    /// [`DEFAULT_ACCURACY_FRACTION`] (a tenth) of the fitting tolerance.
+    pub accuracy: Option<f64>,
+    /// Width of the curves (the B-spline halo is twice as wide). mm: 0.25 (a fine pen); px: 1;
+    /// device: 50 (0.25 mm at 200 lines/mm).
+    pub line_width: f64,
+    /// Space around the bounding box of everything drawn. mm: 5; px: 20; device: 1000.
+    pub margin: f64,
+    /// Radius of a sample's dot: 0.6 × the default line width of the units.
+    pub sample_radius: f64,
+    /// Side of a split point's square: 4 × the default line width of the units.
+    pub split_size: f64,
+    /// Draw the raw samples (needs the stroke file). Default false.
+    pub show_samples: bool,
+    /// Draw the B-splines. Default false.
+    pub show_bspline: bool,
+    /// Draw the chain once more, one path per segment coloured by α. Default false.
+    pub show_alpha: bool,
+    /// Draw the split points. Default false.
+    pub show_splits: bool,
+}
+
+impl SvgOptions {
+    /// The defaults for data in `units` (see the fields).
+    pub const fn for_units(units: Units) -> Self {
+        let (line_width, margin) = match units {
+            Units::Mm => (0.25, 5.0),
+            Units::Px => (1.0, 20.0),
+            Units::Device => (50.0, 1000.0),
+        };
+        SvgOptions {
+            accuracy: None,
+            line_width,
+            margin,
+            sample_radius: 0.6 * line_width,
+            split_size: 4.0 * line_width,
+            show_samples: false,
+            show_bspline: false,
+            show_alpha: false,
+            show_splits: false,
+        }
+    }
+
+    /// Sets [`SvgOptions::accuracy`].
+    pub const fn with_accuracy(mut self, accuracy: f64) -> Self {
+        self.accuracy = Some(accuracy);
+        self
+    }
+
+    /// Sets [`SvgOptions::line_width`].
+    pub const fn with_line_width(mut self, line_width: f64) -> Self {
+        self.line_width = line_width;
+        self
+    }
+
+    /// Sets [`SvgOptions::margin`].
+    pub const fn with_margin(mut self, margin: f64) -> Self {
+        self.margin = margin;
+        self
+    }
+
+    /// Sets the four optional layers (samples, B-spline, α, splits).
+    pub const fn with_layers(
+        mut self,
+        samples: bool,
+        bspline: bool,
+        alpha: bool,
+        splits: bool,
+    ) -> Self {
+        self.show_samples = samples;
+        self.show_bspline = bspline;
+        self.show_alpha = alpha;
+        self.show_splits = splits;
+        self
+    }
+
+    /// The options with every length that is not a finite non-negative number (line width: not
+    /// positive) replaced by the default of `units`.
+    fn sanitized(self, units: Units) -> Self {
+        let d = SvgOptions::for_units(units);
+        let ok = |v: f64, default: f64| {
+            if v.is_finite() && v >= 0.0 {
+                v
+            } else {
+                default
+            }
+        };
+        SvgOptions {
+            line_width: if self.line_width.is_finite() && self.line_width > 0.0 {
+                self.line_width
+            } else {
+                d.line_width
+            },
+            margin: ok(self.margin, d.margin),
+            sample_radius: ok(self.sample_radius, d.sample_radius),
+            split_size: ok(self.split_size, d.split_size),
+            ..self
+        }
+    }
+}
+
+impl Default for SvgOptions {
+    fn default() -> Self {
+        SvgOptions::for_units(Units::Mm)
+    }
+}
+
+/// The export accuracy for a fit at `tolerance`: `requested` when it is a positive number, else
+/// [`DEFAULT_ACCURACY_FRACTION`] × `tolerance`.
+pub fn export_accuracy(requested: Option<f64>, tolerance: f64) -> f64 {
+    requested
+        .filter(|a| a.is_finite() && *a > 0.0)
+        .unwrap_or(DEFAULT_ACCURACY_FRACTION * tolerance)
+}
+
+/// How a segment was written.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum SvgElement {
+    /// One exact `L`.
+    Line,
+    /// Exact `A` commands.
+    Arc,
+    /// Cubic Béziers (`C`) within the accuracy.
+    Cubic,
+}
+
+impl SvgElement {
+    /// The SVG command letter.
+    pub const fn letter(self) -> char {
+        match self {
+            SvgElement::Line => 'L',
+            SvgElement::Arc => 'A',
+            SvgElement::Cubic => 'C',
+        }
+    }
+}
+
+/// What was written for one segment.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct SvgSegmentReport {
+    /// The kind of path command.
+    pub element: SvgElement,
+    /// How many commands (cubics, arcs, or 1 for a line).
+    pub commands: usize,
+    /// Measured distance between the written commands and the exact segment (0 for exact
+    /// lines and arcs).
+    pub error: f64,
+}
+
+/// What was written for one fitted piece.
+#[derive(Clone, Debug, PartialEq)]
+pub struct SvgPieceReport {
+    /// Index of the stroke.
+    pub stroke: usize,
+    /// Its segments, in order.
+    pub segments: Vec<SvgSegmentReport>,
+}
+
+/// An SVG document and what it holds.
+#[derive(Clone, Debug, PartialEq)]
+pub struct SvgExport {
+    /// The document.
+    pub svg: String,
+    /// The accuracy the curves were written to.
+    pub accuracy: f64,
+    /// One report per `<path>` of the `curves` layer (pieces without a chain are left out).
+    pub pieces: Vec<SvgPieceReport>,
+}
+
+impl SvgExport {
+    /// The largest measured error over every segment.
+    pub fn max_error(&self) -> f64 {
+        self.pieces
+            .iter()
+            .flat_map(|p| &p.segments)
+            .map(|s| s.error)
+            .fold(0.0, f64::max)
+    }
+}
+
 /// A bounding box grown element by element.
 #[derive(Clone, Copy, Debug)]
 struct Bounds(Option<Rect>);
@@ -225,11 +322,13 @@ impl Bounds {
     /// Adds the box of half-size `pad` around `p` (skipped unless finite).
     fn add(&mut self, p: Point, pad: f64) {
         if finite(p) {
-            self.add_rect(Rect::new(p.x - pad, p.y - pad, p.x + pad, p.y + pad));
+            self.add_rect(Rect::new(p.x - pad, p.y - pad, p.x + pad, p.y + pad), 0.0);
         }
     }
 
-    fn add_rect(&mut self, r: Rect) {
+    /// Adds `r` grown by `pad` on every side.
+    fn add_rect(&mut self, r: Rect, pad: f64) {
+        let r = r.inflate(pad, pad);
         self.0 = Some(self.0.map_or(r, |b| b.union(r)));
     }
 }
@@ -238,116 +337,293 @@ fn finite(p: Point) -> bool {
     p.x.is_finite() && p.y.is_finite()
 }
 
-/// Appends "x y" (shortest round-trip decimals).
+fn cubic_finite(c: &CubicBez) -> bool {
+    [c.p0, c.p1, c.p2, c.p3].into_iter().all(finite)
+}
+
+/// Appends " x y" (shortest round-trip decimals).
 fn push_xy(out: &mut String, p: Point) {
-    out.push_str(&format!("{} {}", p.x, p.y));
+    // Writing into a String cannot fail.
+    let _ = write!(out, " {} {}", p.x, p.y);
 }
 
-/// A LAC segment's polyline, as drawn.
-fn lac_polyline(segment: &LacSegment, chord_error: f64) -> Vec<Point> {
-    segment
-        .samples(lac_spacing(segment, chord_error))
-        .map(|s| s.point)
-        .collect()
+/// Appends " C x1 y1 x2 y2 x3 y3".
+fn push_cubic(out: &mut String, c: &CubicBez) {
+    out.push_str(" C");
+    for p in [c.p1, c.p2, c.p3] {
+        push_xy(out, p);
+    }
 }
 
-/// Writes the quick-look SVG of `layers` (see the module documentation).
-pub fn quick_look_svg(layers: &SvgLayers, options: &SvgOptions) -> String {
-    let o = options.sanitized();
+/// The largest distance between a circular-arc segment and its chord:
+/// r·(1 − cos(φ/2)) = 2r·sin²(φ/4), φ the turning, r the radius (for φ ≤ π; beyond, at least r).
+fn arc_sagitta(segment: &LacSegment) -> f64 {
+    let kappa = segment.kappa0().abs();
+    let turning = kappa * segment.length();
+    if turning >= std::f64::consts::PI {
+        return 1.0 / kappa;
+    }
+    2.0 * (0.25 * turning).sin().powi(2) / kappa
+}
+
+/// One segment's path commands (without the initial move-to), and its report.
+fn segment_commands(
+    segment: &LacSegment,
+    accuracy: f64,
+    bounds: &mut Bounds,
+    pad: f64,
+) -> Option<(String, SvgSegmentReport)> {
+    let mut d = String::new();
+    let (k0, k1) = (segment.kappa0(), segment.kappa1());
+    let report = if k0 == 0.0 && k1 == 0.0 {
+        d.push_str(" L");
+        push_xy(&mut d, segment.end());
+        bounds.add(segment.start(), pad);
+        bounds.add(segment.end(), pad);
+        SvgSegmentReport {
+            element: SvgElement::Line,
+            commands: 1,
+            error: 0.0,
+        }
+    } else if k0 == k1 && arc_sagitta(segment) <= ARC_AS_LINE_FRACTION * accuracy {
+        // So nearly straight that the arc's radius is ill-conditioned: a line, within a
+        // thousandth of the accuracy.
+        d.push_str(" L");
+        push_xy(&mut d, segment.end());
+        bounds.add(segment.start(), pad);
+        bounds.add(segment.end(), pad);
+        SvgSegmentReport {
+            element: SvgElement::Line,
+            commands: 1,
+            error: arc_sagitta(segment),
+        }
+    } else if k0 == k1 {
+        let turning = (k0 * segment.length()).abs();
+        // At least one arc; the count is small (turning/quarter turn), saturating for safety.
+        let n = ((turning / MAX_ARC_TURNING).ceil() as usize).max(1);
+        let radius = 1.0 / k0.abs();
+        let sweep = u8::from(k0 > 0.0);
+        for i in 1..=n {
+            let end = if i == n {
+                segment.end()
+            } else {
+                segment.point(segment.length() * i as f64 / n as f64)
+            };
+            let _ = write!(d, " A {radius} {radius} 0 0 {sweep}");
+            push_xy(&mut d, end);
+        }
+        let chord = LAC_CHORD_ERROR_FRACTION * pad;
+        for s in segment.samples(lac_spacing(segment, chord)) {
+            bounds.add(s.point, pad + chord);
+        }
+        SvgSegmentReport {
+            element: SvgElement::Arc,
+            commands: n,
+            error: 0.0,
+        }
+    } else {
+        let fit = segment_beziers(segment, accuracy);
+        for c in &fit.cubics {
+            push_cubic(&mut d, c);
+            bounds.add_rect(c.bounding_box(), pad);
+        }
+        SvgSegmentReport {
+            element: SvgElement::Cubic,
+            commands: fit.cubics.len(),
+            error: fit.error,
+        }
+    };
+    // A non-finite number anywhere (a degenerate segment) leaves the segment out.
+    if d.contains("NaN") || d.contains("inf") {
+        return None;
+    }
+    Some((d, report))
+}
+
+/// The path data (`d`) of a chain of segments written to `accuracy`, starting with a move-to
+/// the first segment's start, and what was written for each segment (segments with a
+/// non-finite number are left out). [`svg_document`] writes this for every piece.
+pub fn chain_path_data(segments: &[LacSegment], accuracy: f64) -> (String, Vec<SvgSegmentReport>) {
+    let mut bounds = Bounds(None);
+    let mut d = String::new();
+    let mut reports = Vec::new();
+    if let Some(first) = segments.first().filter(|s| finite(s.start())) {
+        d.push('M');
+        push_xy(&mut d, first.start());
+        for s in segments {
+            if let Some((commands, report)) = segment_commands(s, accuracy, &mut bounds, 0.0) {
+                d.push_str(&commands);
+                reports.push(report);
+            }
+        }
+    }
+    (d, reports)
+}
+
+/// The `<kansei:segment>` element of one segment.
+fn segment_metadata(
+    index: usize,
+    chain_segment: &crate::chain::ChainSegment,
+    report: &SvgSegmentReport,
+) -> String {
+    let s = &chain_segment.segment;
+    let alpha = s
+        .alpha()
+        .map_or_else(|| "null".to_owned(), |a| a.to_string());
+    format!(
+        "<kansei:segment index=\"{index}\" alpha=\"{alpha}\" length=\"{}\" kappa0=\"{}\" \
+         kappa1=\"{}\" max-deviation=\"{}\" samples=\"{} {}\" element=\"{}\" commands=\"{}\" \
+         error=\"{}\"/>\n",
+        s.length(),
+        s.kappa0(),
+        s.kappa1(),
+        chain_segment.max_deviation,
+        chain_segment.samples.0,
+        chain_segment.samples.1,
+        report.element.letter(),
+        report.commands,
+        report.error
+    )
+}
+
+/// Writes the SVG of a fit (see the module documentation). `strokes` supplies the raw samples
+/// for the optional samples layer (without it the layer is empty).
+pub fn svg_document(
+    output: &FitOutput,
+    strokes: Option<&StrokeFile>,
+    options: &SvgOptions,
+) -> SvgExport {
+    let o = options.sanitized(output.units);
+    let accuracy = export_accuracy(o.accuracy, output.tolerance);
     let width = o.line_width;
     let halo = 2.0 * width;
-    let chord_error = o.chord_error();
     let mut bounds = Bounds(None);
+    let mut pieces = Vec::new();
 
-    // Content first (to know the bounds), then the document around it.
+    let mut curves = format!(
+        "<g id=\"curves\" fill=\"none\" stroke=\"#000000\" stroke-width=\"{width}\" \
+         stroke-linejoin=\"round\" stroke-linecap=\"round\">\n"
+    );
+    let mut alpha_layer = format!(
+        "<g id=\"alpha\" fill=\"none\" stroke-width=\"{width}\" stroke-linejoin=\"round\" \
+         stroke-linecap=\"round\">\n"
+    );
+    for (piece, fit) in output.curves.iter().enumerate() {
+        let Some(chain) = fit.chain.as_ref() else {
+            continue;
+        };
+        let Some(first) = chain.segments.first() else {
+            continue;
+        };
+        let start = first.segment.start();
+        if !finite(start) {
+            continue;
+        }
+        let mut d = String::from("M");
+        push_xy(&mut d, start);
+        let mut metadata = String::new();
+        let mut reports = Vec::new();
+        let mut pen = start;
+        for (i, cs) in chain.segments.iter().enumerate() {
+            let Some((commands, report)) =
+                segment_commands(&cs.segment, accuracy, &mut bounds, 0.5 * width)
+            else {
+                continue;
+            };
+            d.push_str(&commands);
+            metadata.push_str(&segment_metadata(i, cs, &report));
+            if o.show_alpha {
+                let [r, g, b] = alpha_colour(cs.segment.alpha());
+                let mut seg_d = String::from("M");
+                push_xy(&mut seg_d, pen);
+                let _ = writeln!(
+                    alpha_layer,
+                    "<path d=\"{seg_d}{commands}\" stroke=\"#{r:02x}{g:02x}{b:02x}\" \
+                     data-piece=\"{piece}\" data-segment=\"{i}\"/>"
+                );
+            }
+            pen = cs.segment.end();
+            reports.push(report);
+        }
+        let error = reports.iter().map(|r| r.error).fold(0.0, f64::max);
+        let _ = write!(
+            curves,
+            "<path id=\"curve-{piece}\" data-stroke=\"{}\" data-samples=\"{} {}\" \
+             data-error=\"{error}\" d=\"{d}\">\n<metadata>\n{metadata}</metadata>\n</path>\n",
+            fit.stroke, fit.samples.0, fit.samples.1
+        );
+        pieces.push(SvgPieceReport {
+            stroke: fit.stroke,
+            segments: reports,
+        });
+    }
+    curves.push_str("</g>\n");
+    alpha_layer.push_str("</g>\n");
+
     let mut body = String::new();
     if o.show_samples {
         body.push_str("<g id=\"samples\" fill=\"#7f7f7f\" stroke=\"none\">\n");
-        for p in layers.samples.iter().flatten().filter(|p| finite(**p)) {
-            bounds.add(*p, o.sample_radius);
-            body.push_str(&format!(
-                "<circle cx=\"{}\" cy=\"{}\" r=\"{}\"/>\n",
+        let samples = strokes
+            .iter()
+            .flat_map(|f| &f.strokes)
+            .flat_map(|s| &s.samples);
+        for p in samples.map(|s| s.point()).filter(|p| finite(*p)) {
+            bounds.add(p, o.sample_radius);
+            let _ = writeln!(
+                body,
+                "<circle cx=\"{}\" cy=\"{}\" r=\"{}\"/>",
                 p.x, p.y, o.sample_radius
-            ));
+            );
         }
         body.push_str("</g>\n");
     }
     if o.show_bspline {
-        body.push_str(&format!(
+        let _ = writeln!(
+            body,
             "<g id=\"bspline\" fill=\"none\" stroke=\"#2ca02c\" stroke-opacity=\"0.45\" \
-             stroke-width=\"{halo}\" stroke-linejoin=\"round\" stroke-linecap=\"round\">\n"
-        ));
-        for spline in layers.bsplines {
+             stroke-width=\"{halo}\" stroke-linejoin=\"round\" stroke-linecap=\"round\">"
+        );
+        for fit in &output.curves {
             let mut d = String::new();
             let mut pen: Option<Point> = None;
-            for piece in spline {
+            for piece in fit.bspline.curve.to_beziers() {
                 let b = piece.bez;
-                if ![b.p0, b.p1, b.p2, b.p3].into_iter().all(finite) {
+                if !cubic_finite(&b) {
                     pen = None;
                     continue;
                 }
-                let r = b.bounding_box();
-                bounds.add_rect(Rect::new(
-                    r.x0 - 0.5 * halo,
-                    r.y0 - 0.5 * halo,
-                    r.x1 + 0.5 * halo,
-                    r.y1 + 0.5 * halo,
-                ));
+                bounds.add_rect(b.bounding_box(), 0.5 * halo);
                 if pen != Some(b.p0) {
                     d.push_str(if d.is_empty() { "M" } else { " M" });
                     push_xy(&mut d, b.p0);
                 }
-                d.push_str(" C");
-                for p in [b.p1, b.p2, b.p3] {
-                    d.push(' ');
-                    push_xy(&mut d, p);
-                }
+                push_cubic(&mut d, &b);
                 pen = Some(b.p3);
             }
             if !d.is_empty() {
-                body.push_str(&format!("<path d=\"{d}\"/>\n"));
+                let _ = writeln!(body, "<path d=\"{d}\"/>");
             }
         }
         body.push_str("</g>\n");
     }
-    if o.show_lac {
-        body.push_str(&format!(
-            "<g id=\"lac\" fill=\"none\" stroke-width=\"{width}\" stroke-linejoin=\"round\" \
-             stroke-linecap=\"round\">\n"
-        ));
-        for segment in layers.segments {
-            let mut d = String::new();
-            for (i, p) in lac_polyline(segment, chord_error).into_iter().enumerate() {
-                bounds.add(p, 0.5 * width);
-                d.push_str(if i == 0 { "M" } else { " L" });
-                push_xy(&mut d, p);
-            }
-            let [r, g, b] = alpha_colour(segment.alpha());
-            let alpha = segment
-                .alpha()
-                .map_or_else(|| "null".to_string(), |a| a.to_string());
-            body.push_str(&format!(
-                "<path d=\"{d}\" stroke=\"#{r:02x}{g:02x}{b:02x}\" data-alpha=\"{alpha}\" \
-                 data-length=\"{}\" data-kappa0=\"{}\" data-kappa1=\"{}\"/>\n",
-                segment.length(),
-                segment.kappa0(),
-                segment.kappa1()
-            ));
-        }
-        body.push_str("</g>\n");
+    body.push_str(&curves);
+    if o.show_alpha {
+        body.push_str(&alpha_layer);
     }
     if o.show_splits {
         body.push_str("<g id=\"splits\" fill=\"#ff7f0e\" stroke=\"none\">\n");
         let half = 0.5 * o.split_size;
-        for p in layers.splits.iter().filter(|p| finite(**p)) {
-            bounds.add(*p, half);
-            body.push_str(&format!(
-                "<rect x=\"{}\" y=\"{}\" width=\"{}\" height=\"{}\"/>\n",
+        let splits = output.curves.iter().flat_map(|c| &c.spans.splits);
+        for p in splits.map(|s| s.point).filter(|p| finite(*p)) {
+            bounds.add(p, half);
+            let _ = writeln!(
+                body,
+                "<rect x=\"{}\" y=\"{}\" width=\"{}\" height=\"{}\"/>",
                 p.x - half,
                 p.y - half,
                 o.split_size,
                 o.split_size
-            ));
+            );
         }
         body.push_str("</g>\n");
     }
@@ -363,25 +639,41 @@ pub fn quick_look_svg(layers: &SvgLayers, options: &SvgOptions) -> String {
         view = Rect::new(view.x0, view.y0 - 0.5, view.x1, view.y1 + 0.5);
     }
     let (w, h) = (view.width(), view.height());
-    let size = match o.units {
+    let size = match output.units {
         Units::Mm => format!(" width=\"{w}mm\" height=\"{h}mm\""),
         Units::Px => format!(" width=\"{w}\" height=\"{h}\""),
         Units::Device => String::new(),
     };
-    let mut svg = String::with_capacity(body.len() + 512);
+    let export = SvgExport {
+        svg: String::new(),
+        accuracy,
+        pieces,
+    };
+    let mut svg = String::with_capacity(body.len() + 1024);
     svg.push_str("<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n");
-    svg.push_str(&format!(
-        "<!-- kansei quick look. Coordinates are the data's own, in {units}; the y axis is not \
-         flipped: SVG's y points down, so a y-up drawing appears mirrored top to bottom. \
-         Layers: samples (dots), bspline (pale halo), lac (coloured by alpha: blue < 0, grey 0, \
-         red >= 2, black arc or line), splits (squares). -->\n",
-        units = o.units.name()
-    ));
-    svg.push_str(&format!(
-        "<svg xmlns=\"http://www.w3.org/2000/svg\" version=\"1.1\" viewBox=\"{} {} {w} {h}\"{size}>\n",
+    let _ = writeln!(
+        svg,
+        "<!-- kansei: log-aesthetic curve chains. Coordinates are the data's own, in {units}; the \
+         y axis is not flipped: SVG's y points down, so a y-up drawing appears mirrored top to \
+         bottom. Lines and circular arcs are exact (L, A); spirals are cubic Beziers within \
+         {accuracy} {units} of the exact curve. -->",
+        units = output.units.name()
+    );
+    let _ = writeln!(
+        svg,
+        "<svg xmlns=\"http://www.w3.org/2000/svg\" xmlns:kansei=\"{SVG_METADATA_NAMESPACE}\" \
+         version=\"1.1\" viewBox=\"{} {} {w} {h}\"{size}>",
         view.x0, view.y0
-    ));
+    );
+    let _ = writeln!(
+        svg,
+        "<metadata>\n<kansei:export units=\"{}\" tolerance=\"{}\" accuracy=\"{accuracy}\" \
+         error=\"{}\"/>\n</metadata>",
+        output.units.name(),
+        output.tolerance,
+        export.max_error()
+    );
     svg.push_str(&body);
     svg.push_str("</svg>\n");
-    svg
+    SvgExport { svg, ..export }
 }

@@ -1,0 +1,110 @@
+//! The DXF export on a millimetre stroke and on hand-made Bézier chains: `$INSUNITS`, the
+//! spline's Bézier form (clamped, triple interior knots at arc lengths, shared end control
+//! points), and the splines read back within the accuracy of the chain. Every fixture is checked
+//! in `tests/export_fixtures.rs`.
+
+mod common;
+
+use common::export::{Piece, two_sided_distance};
+use kansei::export::{DxfOptions, bezier_chain_spline, dxf_drawing, dxf_units};
+use kansei::pipeline::{PipelineOptions, fit_file};
+use kansei::stroke::{StrokeFile, Units};
+use kurbo::{CubicBez, ParamCurveArclen, Point};
+
+#[test]
+fn a_chain_of_cubics_is_one_spline_in_bezier_form() {
+    let a = CubicBez::new((0.0, 0.0), (1.0, 1.0), (2.0, 1.0), (3.0, 0.0));
+    let b = CubicBez::new((3.0, 0.0), (4.0, -1.0), (5.0, -1.0), (6.0, 0.0));
+    let dot = CubicBez::new((6.0, 0.0), (6.0, 0.0), (6.0, 0.0), (6.0, 0.0));
+    let (knots, points) = bezier_chain_spline(&[a, dot, b]).expect("a spline");
+    // The zero-length cubic is dropped: 2 cubics, 7 control points, 11 knots.
+    assert_eq!(points.len(), 7);
+    assert_eq!(knots.len(), points.len() + 4);
+    assert_eq!(&points[..4], &[a.p0, a.p1, a.p2, a.p3]);
+    assert_eq!(&points[3..], &[b.p0, b.p1, b.p2, b.p3]);
+    let (la, lb) = (a.arclen(1e-12), b.arclen(1e-12));
+    let expected = [
+        0.0,
+        0.0,
+        0.0,
+        0.0,
+        la,
+        la,
+        la,
+        la + lb,
+        la + lb,
+        la + lb,
+        la + lb,
+    ];
+    for (k, e) in knots.iter().zip(expected) {
+        assert!((k - e).abs() <= 1e-8, "{knots:?}");
+    }
+    assert_eq!(bezier_chain_spline(&[dot]), None);
+    assert_eq!(bezier_chain_spline(&[]), None);
+}
+
+#[test]
+fn millimetre_strokes_say_millimetres_and_read_back_within_the_accuracy() {
+    assert_eq!(dxf_units(Units::Mm), dxf::enums::Units::Millimeters);
+    assert_eq!(dxf_units(Units::Px), dxf::enums::Units::Unitless);
+    assert_eq!(dxf_units(Units::Device), dxf::enums::Units::Unitless);
+    let segment = common::lac::planted_segment(-1.0, 60.0, 0.2, 1.5);
+    let stroke = common::lac::pen_stroke(&segment, 300, 0, 0.02, 7);
+    let file = StrokeFile::new(Units::Mm, vec![stroke]);
+    let out = fit_file(&file, &PipelineOptions::default()).expect("fit");
+    for accuracy in [None, Some(0.001)] {
+        let export = dxf_drawing(&out, &DxfOptions { accuracy });
+        let expected = accuracy.unwrap_or(0.1 * out.tolerance);
+        assert_eq!(export.accuracy, expected);
+        let bytes = export.to_bytes().expect("writes");
+        let text = String::from_utf8_lossy(&bytes);
+        assert!(text.contains("$INSUNITS") && text.contains("AC1015"));
+        let drawing = dxf::Drawing::load(&mut bytes.as_slice()).expect("reads back");
+        assert_eq!(
+            drawing.header.default_drawing_units,
+            dxf::enums::Units::Millimeters
+        );
+        let splines: Vec<&dxf::entities::Spline> = drawing
+            .entities()
+            .filter_map(|e| match &e.specific {
+                dxf::entities::EntityType::Spline(s) => Some(s),
+                _ => None,
+            })
+            .collect();
+        let chain = out.curves[0].chain.as_ref().expect("chain");
+        assert_eq!(splines.len(), 1);
+        let s = splines[0];
+        assert_eq!(s.degree_of_curve, 3);
+        assert!(s.is_planar());
+        let points: Vec<Point> = s
+            .control_points
+            .iter()
+            .map(|p| Point::new(p.x, p.y))
+            .collect();
+        assert_eq!(s.knot_values.len(), points.len() + 4);
+        // The dxf crate writes 12 decimals: 5e-13 at most off, far below any accuracy.
+        assert!(points[0].distance(chain.segments[0].segment.start()) <= 1e-12);
+        let cubics: Vec<CubicBez> = (0..(points.len() - 1) / 3)
+            .map(|i| {
+                CubicBez::new(
+                    points[3 * i],
+                    points[3 * i + 1],
+                    points[3 * i + 2],
+                    points[3 * i + 3],
+                )
+            })
+            .collect();
+        let mut at = 0;
+        for (cs, &n) in chain.segments.iter().zip(&export.splines[0].cubics) {
+            let mine: Vec<Piece> = cubics[at..at + n]
+                .iter()
+                .map(|c| Piece::Cubic(*c))
+                .collect();
+            at += n;
+            let error = two_sided_distance(&cs.segment, &mine);
+            assert!(error <= expected, "{error} > {expected}");
+        }
+        assert_eq!(at, cubics.len());
+        assert!(export.splines[0].error <= expected);
+    }
+}
