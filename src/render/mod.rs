@@ -57,12 +57,13 @@ pub use legend::{
 };
 pub use options::{Overlays, RenderOptions};
 pub use overlays::{
-    ARC_TOLERANCE_PX, COMB_HEIGHT_FRACTION, COMB_QUANTILE, COMB_SCALE_SAMPLES, MAX_SEGMENT_POINTS,
-    SEGMENT_STEP_PX, auto_comb_scale, sample_radius, segment_path, segment_spacing,
+    ARC_TOLERANCE_PX, COMB_HEIGHT_FRACTION, COMB_MAX_TOOTH_FRACTION, COMB_QUANTILE,
+    COMB_SCALE_SAMPLES, MAX_SEGMENT_POINTS, SEGMENT_STEP_PX, auto_comb_scale, sample_radius,
+    segment_path, segment_spacing,
 };
 pub use primitives::{MarkerShape, PIXEL_COORD_LIMIT};
 pub use scene::{BOUNDS_POINTS_PER_SEGMENT, Scene, render, render_png, scene_bounds};
-pub use text::{GLYPH_ADVANCE, GLYPH_GRID, GLYPH_WIDTH, draw_text, text_width};
+pub use text::{GLYPH_ADVANCE, GLYPH_GRID, GLYPH_WIDTH, draw_text, glyph, text_width};
 pub use view::{FALLBACK_PIXELS_PER_UNIT, MIN_FIT_EXTENT_PX, View};
 
 /// Re-exported so users need not depend on tiny-skia themselves to name the result.

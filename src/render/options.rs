@@ -55,9 +55,14 @@ impl Overlays {
 impl Default for Overlays {
     fn default() -> Self {
         Overlays {
+            samples: true,
+            bspline: true,
             control_polygon: false,
+            splits: true,
+            segments: true,
             comb: false,
-            ..Overlays::ALL
+            legend: true,
+            scale_bar: true,
         }
     }
 }

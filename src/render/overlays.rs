@@ -34,6 +34,10 @@ pub const COMB_SCALE_SAMPLES: usize = 17;
 /// otherwise flatten the rest of the comb.
 pub const COMB_QUANTILE: f64 = 0.95;
 
+/// Longest comb tooth drawn, as a fraction of the scene's diagonal: a tight curl's tooth (its κ
+/// far above the quantile) is cut to this length instead of crossing the whole image.
+pub const COMB_MAX_TOOTH_FRACTION: f64 = 0.3;
+
 /// Length of the reference tooth of [`auto_comb_scale`], as a fraction of the scene's diagonal.
 pub const COMB_HEIGHT_FRACTION: f64 = 0.1;
 
@@ -242,9 +246,15 @@ pub fn auto_comb_scale(scene: &Scene) -> Option<f64> {
 
 /// The curvature comb of each chain: a tooth every [`RenderOptions::comb_spacing`] pixels,
 /// from the curve along −κ·scale·n (n the left normal, so teeth stand on the convex side, away
-/// from the centre of curvature), and the envelope through the teeth's tips.
+/// from the centre of curvature), at most [`COMB_MAX_TOOTH_FRACTION`] of the scene's diagonal
+/// long, and the envelope through the teeth's tips.
 pub fn draw_comb(pixmap: &mut Pixmap, scene: &Scene, view: &View, options: &RenderOptions) {
     let Some(scale) = options.comb_scale.or_else(|| auto_comb_scale(scene)) else {
+        return;
+    };
+    let Some(max_tooth) =
+        super::scene_bounds(scene).map(|b| COMB_MAX_TOOTH_FRACTION * b.width().hypot(b.height()))
+    else {
         return;
     };
     let line = options.control_polygon_width.max(1.0);
@@ -260,7 +270,8 @@ pub fn draw_comb(pixmap: &mut Pixmap, scene: &Scene, view: &View, options: &Rend
                 .max(segment.length() / (MAX_SEGMENT_POINTS - 1) as f64);
             for s in segment.samples(spacing) {
                 let (sin, cos) = s.theta.sin_cos();
-                let tip = s.point - Vec2::new(-sin, cos) * (s.kappa * scale);
+                let tooth = (s.kappa * scale).clamp(-max_tooth, max_tooth);
+                let tip = s.point - Vec2::new(-sin, cos) * tooth;
                 let (a, b) = (view.to_pixel(s.point), view.to_pixel(tip));
                 if let (Some(a), Some(b)) =
                     (super::primitives::to_f32(a), super::primitives::to_f32(b))
