@@ -58,8 +58,8 @@ pub use legend::{
 pub use options::{Overlays, RenderOptions};
 pub use overlays::{
     ARC_TOLERANCE_PX, COMB_HEIGHT_FRACTION, COMB_MAX_TOOTH_FRACTION, COMB_QUANTILE,
-    COMB_SCALE_SAMPLES, MAX_SEGMENT_POINTS, SEGMENT_STEP_PX, auto_comb_scale, sample_radius,
-    segment_path, segment_spacing,
+    COMB_SCALE_SAMPLES, CULL_PAD_PX, MAX_SEGMENT_POINTS, SEGMENT_STEP_PX, auto_comb_scale,
+    sample_radius, segment_may_show, segment_path, segment_spacing,
 };
 pub use primitives::{MarkerShape, PIXEL_COORD_LIMIT};
 pub use scene::{BOUNDS_POINTS_PER_SEGMENT, Scene, render, render_png, scene_bounds};

@@ -130,6 +130,22 @@ impl RenderOptions {
         }
     }
 
+    /// The options with every pixel size multiplied by `factor` (e.g. a screen's scale factor;
+    /// the comb scale, in model units, is kept).
+    pub fn scaled(self, factor: f64) -> Self {
+        RenderOptions {
+            segment_width: self.segment_width * factor,
+            bspline_width: self.bspline_width * factor,
+            control_polygon_width: self.control_polygon_width * factor,
+            sample_radius: self.sample_radius * factor,
+            marker_size: self.marker_size * factor,
+            comb_spacing: self.comb_spacing * factor,
+            highlight_width: self.highlight_width * factor,
+            text_size: self.text_size * factor,
+            ..self
+        }
+    }
+
     /// Checks that every size is a finite non-negative number (the comb spacing positive, the
     /// comb scale finite).
     pub fn validate(&self) -> Result<(), RenderError> {

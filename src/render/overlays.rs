@@ -41,6 +41,44 @@ pub const COMB_MAX_TOOTH_FRACTION: f64 = 0.3;
 /// Length of the reference tooth of [`auto_comb_scale`], as a fraction of the scene's diagonal.
 pub const COMB_HEIGHT_FRACTION: f64 = 0.1;
 
+/// Pixels beyond a stroke's half width that culling keeps (anti-aliasing reaches about a pixel
+/// past the geometry).
+pub const CULL_PAD_PX: f64 = 2.0;
+
+/// Distance in pixels from `p` to the image rectangle of `view` (0 inside; NaN for NaN).
+fn distance_to_image(view: &View, p: Point) -> f64 {
+    let dx = (-p.x).max(p.x - f64::from(view.width)).max(0.0);
+    let dy = (-p.y).max(p.y - f64::from(view.height)).max(0.0);
+    dx.hypot(dy)
+}
+
+/// Whether `segment` may show within `pad_px` pixels of the image (false only when it surely
+/// does not). A curve of length L from A to B lies in the ellipse with foci A and B and major
+/// axis L, hence in the disc of radius L/2 about the midpoint of AB; that disc is tested. Culling
+/// keeps a zoomed-in view from evaluating the whole scene at a quarter pixel.
+pub fn segment_may_show(segment: &LacSegment, view: &View, pad_px: f64) -> bool {
+    let mid = view.to_pixel(segment.start().midpoint(segment.end()));
+    let radius = 0.5 * segment.length() * view.pixels_per_unit + pad_px;
+    distance_to_image(view, mid) <= radius
+}
+
+/// Whether a cubic (in pixels) may show within `pad_px` pixels of the image: its control
+/// points' box (which holds the curve) is tested.
+fn cubic_may_show(bez: &CubicBez, view: &View, pad_px: f64) -> bool {
+    let (w, h) = (f64::from(view.width), f64::from(view.height));
+    let xs = [bez.p0.x, bez.p1.x, bez.p2.x, bez.p3.x];
+    let ys = [bez.p0.y, bez.p1.y, bez.p2.y, bez.p3.y];
+    let (x0, x1) = (
+        xs.iter().copied().fold(f64::INFINITY, f64::min),
+        xs.iter().copied().fold(f64::NEG_INFINITY, f64::max),
+    );
+    let (y0, y1) = (
+        ys.iter().copied().fold(f64::INFINITY, f64::min),
+        ys.iter().copied().fold(f64::NEG_INFINITY, f64::max),
+    );
+    x1 >= -pad_px && x0 <= w + pad_px && y1 >= -pad_px && y0 <= h + pad_px
+}
+
 /// Arc-length spacing (model units) at which a segment is evaluated in `view`:
 /// [`SEGMENT_STEP_PX`] pixels, widened to keep at most [`MAX_SEGMENT_POINTS`] points.
 pub fn segment_spacing(segment: &LacSegment, view: &View) -> f64 {
@@ -113,7 +151,11 @@ fn segments<'a>(scene: &'a Scene) -> impl Iterator<Item = (usize, usize, &'a Lac
 
 /// LAC segments coloured by α.
 pub fn draw_segments(pixmap: &mut Pixmap, scene: &Scene, view: &View, options: &RenderOptions) {
+    let pad = 0.5 * options.segment_width + CULL_PAD_PX;
     for (_, _, segment) in segments(scene) {
+        if !segment_may_show(segment, view, pad) {
+            continue;
+        }
         if let Some(path) = segment_path(segment, view) {
             let colour = segment_colour(segment.alpha());
             stroke(pixmap, &path, colour, options.segment_width);
@@ -131,23 +173,32 @@ pub fn draw_highlight(pixmap: &mut Pixmap, scene: &Scene, view: &View, options: 
         .get(c)
         .and_then(|curve| curve.chain.as_ref())
         .and_then(|chain| chain.segments.get(s));
-    if let Some(path) = found.and_then(|seg| segment_path(&seg.segment, view)) {
+    let pad = 0.5 * options.highlight_width + CULL_PAD_PX;
+    let shown = found.filter(|seg| segment_may_show(&seg.segment, view, pad));
+    if let Some(path) = shown.and_then(|seg| segment_path(&seg.segment, view)) {
         stroke(pixmap, &path, HIGHLIGHT, options.highlight_width);
     }
 }
 
 /// The B-splines as pale halos.
 pub fn draw_bspline(pixmap: &mut Pixmap, scene: &Scene, view: &View, options: &RenderOptions) {
+    let pad = 0.5 * options.bspline_width + CULL_PAD_PX;
     for curve in scene.curves {
-        let pieces = curve.bspline.curve.to_beziers().into_iter().map(|p| {
-            let b = p.bez;
-            CubicBez::new(
-                view.to_pixel(b.p0),
-                view.to_pixel(b.p1),
-                view.to_pixel(b.p2),
-                view.to_pixel(b.p3),
-            )
-        });
+        let pieces = curve
+            .bspline
+            .curve
+            .to_beziers()
+            .into_iter()
+            .map(|p| {
+                let b = p.bez;
+                CubicBez::new(
+                    view.to_pixel(b.p0),
+                    view.to_pixel(b.p1),
+                    view.to_pixel(b.p2),
+                    view.to_pixel(b.p3),
+                )
+            })
+            .filter(|b| cubic_may_show(b, view, pad));
         if let Some(path) = cubics(pieces) {
             stroke(pixmap, &path, BSPLINE, options.bspline_width);
         }
@@ -266,13 +317,24 @@ pub fn draw_comb(pixmap: &mut Pixmap, scene: &Scene, view: &View, options: &Rend
         let mut teeth = tiny_skia::PathBuilder::new();
         for seg in &chain.segments {
             let segment = &seg.segment;
+            let tip = |s: crate::lac::LacSample| {
+                let (sin, cos) = s.theta.sin_cos();
+                let tooth = (s.kappa * scale).clamp(-max_tooth, max_tooth);
+                s.point - Vec2::new(-sin, cos) * tooth
+            };
+            let pad = max_tooth * view.pixels_per_unit + CULL_PAD_PX;
+            if !segment_may_show(segment, view, pad) {
+                // Off the image: keep the envelope's legs to the neighbours (they may cross the
+                // image), but break it across this segment.
+                envelope.push(view.to_pixel(tip(segment.sample(0.0))));
+                envelope.push(Point::new(f64::NAN, f64::NAN));
+                envelope.push(view.to_pixel(tip(segment.sample(segment.length()))));
+                continue;
+            }
             let spacing = (options.comb_spacing / view.pixels_per_unit)
                 .max(segment.length() / (MAX_SEGMENT_POINTS - 1) as f64);
             for s in segment.samples(spacing) {
-                let (sin, cos) = s.theta.sin_cos();
-                let tooth = (s.kappa * scale).clamp(-max_tooth, max_tooth);
-                let tip = s.point - Vec2::new(-sin, cos) * tooth;
-                let (a, b) = (view.to_pixel(s.point), view.to_pixel(tip));
+                let (a, b) = (view.to_pixel(s.point), view.to_pixel(tip(s)));
                 if let (Some(a), Some(b)) =
                     (super::primitives::to_f32(a), super::primitives::to_f32(b))
                 {
