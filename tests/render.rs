@@ -169,9 +169,13 @@ fn golden_s_curve_mm_with_pressure_and_comb() {
 }
 
 /// Half the line width plus half a pixel's diagonal (the farthest a pixel centre can be from a
-/// line that still covers part of the pixel) plus the dense polyline's own spacing.
+/// line that still covers part of the pixel), plus the drawn polyline's chord error and the
+/// spacing of the dense evaluation it is compared with.
 fn ink_bound(width: f64) -> f64 {
-    0.5 * width + std::f64::consts::FRAC_1_SQRT_2 + DENSE_STEP_PX
+    0.5 * width
+        + std::f64::consts::FRAC_1_SQRT_2
+        + kansei::render::SEGMENT_CHORD_ERROR_PX
+        + DENSE_STEP_PX
 }
 
 /// Spacing of the independent evaluation of the LAC in the pixel check, pixels.

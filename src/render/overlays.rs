@@ -15,9 +15,21 @@ use crate::split::SplitKind;
 use kurbo::{Arc, PathEl};
 use tiny_skia::{Path, Pixmap};
 
-/// Spacing of the evaluated LAC points, pixels: a quarter pixel keeps the polyline's chord error
-/// below 1/32 px for any curve whose radius is at least a pixel (sagitta h²/8r), invisible.
-pub const SEGMENT_STEP_PX: f64 = 0.25;
+/// Longest step between evaluated LAC points, pixels: a straight-ish segment still gets a point
+/// every two pixels.
+pub const SEGMENT_STEP_PX: f64 = 2.0;
+
+/// Largest distance between the drawn polyline and the exact LAC, pixels: a twentieth of a
+/// pixel is invisible (anti-aliasing resolves about a sixteenth of a pixel's coverage).
+pub const SEGMENT_CHORD_ERROR_PX: f64 = 0.05;
+
+/// Shortest step between evaluated LAC points, pixels: where the curvature radius is below a few
+/// pixels the curl is a blob of a pixel or two whatever its shape, and finer steps only cost.
+pub const SEGMENT_MIN_STEP_PX: f64 = 0.25;
+
+/// Largest turning of the LAC between two evaluated points, radians: keeps the sagitta bound
+/// of [`segment_spacing`] valid (it needs the turning per step well below π).
+pub const SEGMENT_MAX_TURNING: f64 = 0.5;
 
 /// Most points evaluated per LAC segment: beyond, the spacing widens (a segment hundreds of
 /// thousands of pixels long is mostly off the image at that zoom).
@@ -79,11 +91,27 @@ fn cubic_may_show(bez: &CubicBez, view: &View, pad_px: f64) -> bool {
     x1 >= -pad_px && x0 <= w + pad_px && y1 >= -pad_px && y0 <= h + pad_px
 }
 
-/// Arc-length spacing (model units) at which a segment is evaluated in `view`:
-/// [`SEGMENT_STEP_PX`] pixels, widened to keep at most [`MAX_SEGMENT_POINTS`] points.
+/// Arc-length spacing (model units) at which a segment is evaluated in `view`.
+///
+/// A step h on a curve with |κ| ≤ κ_max (monotonic along an LAC, so κ_max is the larger end) that
+/// turns by less than π stays within the sagitta (1 − cos(κ_max·h/2))/κ_max ≤ κ_max·h²/8 of its
+/// chord. So h = √(8·e/κ_max) with e = [`SEGMENT_CHORD_ERROR_PX`] in model units, at most
+/// [`SEGMENT_MAX_TURNING`]/κ_max and [`SEGMENT_STEP_PX`] pixels, at least
+/// [`SEGMENT_MIN_STEP_PX`] pixels (the chord bound is given up only inside curls of radius below
+/// ~0.16 px), and widened to keep at most [`MAX_SEGMENT_POINTS`] points.
 pub fn segment_spacing(segment: &LacSegment, view: &View) -> f64 {
     let length = segment.length();
-    (SEGMENT_STEP_PX / view.pixels_per_unit).max(length / (MAX_SEGMENT_POINTS - 1) as f64)
+    let k = view.pixels_per_unit;
+    let kappa_max = segment.kappa0().abs().max(segment.kappa1().abs());
+    let mut h = SEGMENT_STEP_PX / k;
+    if kappa_max > 0.0 {
+        let e = SEGMENT_CHORD_ERROR_PX / k;
+        h = h
+            .min((8.0 * e / kappa_max).sqrt())
+            .min(SEGMENT_MAX_TURNING / kappa_max);
+    }
+    h.max(SEGMENT_MIN_STEP_PX / k)
+        .max(length / (MAX_SEGMENT_POINTS - 1) as f64)
 }
 
 /// The path of `segment` in pixels: an LAC is evaluated exactly ([`LacSegment::samples`] at
@@ -274,7 +302,16 @@ pub fn draw_splits(pixmap: &mut Pixmap, scene: &Scene, view: &View, options: &Re
 /// segments ([`COMB_SCALE_SAMPLES`] per segment) a tooth of [`COMB_HEIGHT_FRACTION`] of the
 /// diagonal of [`scene_bounds`](super::scene_bounds). `None` without segments or curvature.
 pub fn auto_comb_scale(scene: &Scene) -> Option<f64> {
-    let diagonal = super::scene_bounds(scene).map(|b| b.width().hypot(b.height()))?;
+    comb_scale_for(scene, scene_diagonal(scene)?)
+}
+
+/// The diagonal of [`scene_bounds`](super::scene_bounds).
+fn scene_diagonal(scene: &Scene) -> Option<f64> {
+    super::scene_bounds(scene).map(|b| b.width().hypot(b.height()))
+}
+
+/// [`auto_comb_scale`] for a scene of this diagonal.
+fn comb_scale_for(scene: &Scene, diagonal: f64) -> Option<f64> {
     let mut kappas: Vec<f64> = segments(scene)
         .flat_map(|(_, _, seg)| {
             (0..COMB_SCALE_SAMPLES).map(move |i| {
@@ -300,14 +337,16 @@ pub fn auto_comb_scale(scene: &Scene) -> Option<f64> {
 /// from the centre of curvature), at most [`COMB_MAX_TOOTH_FRACTION`] of the scene's diagonal
 /// long, and the envelope through the teeth's tips.
 pub fn draw_comb(pixmap: &mut Pixmap, scene: &Scene, view: &View, options: &RenderOptions) {
-    let Some(scale) = options.comb_scale.or_else(|| auto_comb_scale(scene)) else {
+    let Some(diagonal) = scene_diagonal(scene) else {
         return;
     };
-    let Some(max_tooth) =
-        super::scene_bounds(scene).map(|b| COMB_MAX_TOOTH_FRACTION * b.width().hypot(b.height()))
+    let Some(scale) = options
+        .comb_scale
+        .or_else(|| comb_scale_for(scene, diagonal))
     else {
         return;
     };
+    let max_tooth = COMB_MAX_TOOTH_FRACTION * diagonal;
     let line = options.control_polygon_width.max(1.0);
     for curve in scene.curves {
         let Some(chain) = &curve.chain else {
