@@ -5,7 +5,7 @@
 //!
 //! Golden images live in `fixtures/render-golden/`. Regenerate them (after a deliberate change to
 //! the drawing) with `KANSEI_BLESS=1 cargo test --test render`, then look at them before
-//! committing.
+//! committing. A failing comparison writes the render to `target/tmp/<name>.actual.png`.
 
 mod common;
 
@@ -119,7 +119,7 @@ fn check_golden(name: &str, pixmap: &Pixmap) {
     let diff = differing(pixmap, &golden, PIXEL_TOLERANCE);
     let fraction = diff.len() as f64 / (pixmap.width() * pixmap.height()) as f64;
     if fraction > MAX_DIFFERING_FRACTION {
-        let actual = path.with_extension("actual.png");
+        let actual = PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join(format!("{name}.actual.png"));
         let _ = pixmap.save_png(&actual);
         panic!(
             "{name}: {} pixels ({:.3} %) differ from {} by more than {PIXEL_TOLERANCE}; the \
@@ -696,4 +696,118 @@ fn culling_never_drops_a_visible_segment() {
         }
     }
     assert!(kept > 100 && culled > 100, "kept {kept}, culled {culled}");
+}
+
+/// A quarter circle of radius `r` mm, sampled every degree, and its fit.
+fn quarter_circle(r: f64) -> (StrokeFile, FitOutput) {
+    let arc = Stroke::from_points((0..=90).map(|d| {
+        let a = (d as f64).to_radians();
+        Point::new(r * a.cos(), r * a.sin())
+    }));
+    let file = StrokeFile::new(Units::Mm, vec![arc]);
+    let out = fitted(&file);
+    (file, out)
+}
+
+#[test]
+fn legend_ramp_shows_the_svg_colour_of_each_alpha() {
+    let options = RenderOptions::with_overlays(Overlays {
+        legend: true,
+        ..Overlays::NONE
+    });
+    let empty = Scene::new(&[], &[], Units::Mm);
+    let view = View::fit(Rect::new(0.0, 0.0, 1.0, 1.0), 400, 200, 0.0);
+    let pixmap = render(&empty, &view, &options).expect("renders");
+    let layout =
+        kansei::render::legend_layout(400, options.text_size).expect("a legend at size 13");
+    let ramp = layout.ramp;
+    assert!(layout.panel.contains(Point::new(ramp.x0, ramp.y0)));
+    assert!(layout.panel.x1 <= 400.0 && layout.panel.y0 >= 0.0);
+    let y = (0.5 * (ramp.y0 + ramp.y1)) as u32;
+    let (a0, a1) = (
+        kansei::render::ALPHA_BLUE_END,
+        kansei::render::ALPHA_RED_END,
+    );
+    for x in ramp.x0 as u32..ramp.x1 as u32 {
+        let alpha = a0 + (a1 - a0) * (f64::from(x) + 0.5 - ramp.x0) / ramp.width();
+        let want = kansei::render::alpha_colour(Some(alpha));
+        let got = pixmap.pixel(x, y).expect("inside").demultiply();
+        let got = [got.red(), got.green(), got.blue()];
+        // Whole-pixel columns: exact up to the rounding of the 8-bit colour.
+        for c in 0..3 {
+            assert!(
+                got[c].abs_diff(want[c]) <= 1,
+                "α {alpha}: {got:?} vs {want:?}"
+            );
+        }
+    }
+}
+
+#[test]
+fn automatic_comb_scale_of_a_circle_is_the_closed_form() {
+    // κ = 1/r everywhere: the 95th percentile is 1/r, so the scale is 0.1 · diagonal · r.
+    let r = 50.0;
+    let (file, out) = quarter_circle(r);
+    let scene = Scene::new(&file.strokes, &out.curves, file.units);
+    let b = scene_bounds(&scene).expect("bounds");
+    let want = kansei::render::COMB_HEIGHT_FRACTION * b.width().hypot(b.height()) * r;
+    let got = kansei::render::auto_comb_scale(&scene).expect("a scale");
+    // The fitted chain's curvature is 1/r within the fit's accuracy (a few percent at most).
+    assert!((got / want - 1.0).abs() < 0.05, "{got} vs {want}");
+    assert_eq!(
+        kansei::render::auto_comb_scale(&Scene::new(&[], &[], Units::Mm)),
+        None
+    );
+}
+
+#[test]
+fn comb_teeth_stand_outside_a_circle() {
+    // Teeth point away from the centre of curvature: every comb pixel lies outside the circle
+    // (less the line's half width and a pixel), and the envelope reaches r + κ·scale.
+    let r = 50.0;
+    let (file, out) = quarter_circle(r);
+    let scene = Scene::new(&file.strokes, &out.curves, file.units);
+    let scale = 20.0 * r; // teeth 20 mm long
+    let options = RenderOptions {
+        comb_scale: Some(scale),
+        ..RenderOptions::with_overlays(Overlays {
+            comb: true,
+            ..Overlays::NONE
+        })
+    };
+    let (w, h) = (400u32, 400u32);
+    let view = View::fit(Rect::new(-5.0, -5.0, 75.0, 75.0), w, h, 0.0);
+    let pixmap = render(&scene, &view, &options).expect("renders");
+    let ink = inked(&pixmap);
+    let mut farthest: f64 = 0.0;
+    for (k, _) in ink.iter().enumerate().filter(|(_, i)| **i) {
+        let q = Point::new((k % w as usize) as f64 + 0.5, (k / w as usize) as f64 + 0.5);
+        let d = view.to_model(q).to_vec2().hypot();
+        let slack = 1.5 / view.pixels_per_unit;
+        assert!(d >= r - slack, "comb pixel at radius {d}");
+        farthest = farthest.max(d);
+    }
+    let tooth = scale / r;
+    assert!(
+        (farthest - (r + tooth)).abs() < 0.05 * tooth,
+        "envelope at {farthest}, want {}",
+        r + tooth
+    );
+}
+
+#[test]
+fn non_finite_samples_are_skipped() {
+    let stroke = Stroke::new(vec![
+        Sample::new(0.0, 0.0),
+        Sample::new(f64::NAN, 1.0),
+        Sample::new(10.0, f64::INFINITY),
+        Sample::new(10.0, 10.0),
+    ]);
+    let strokes = [stroke];
+    let scene = Scene::new(&strokes, &[], Units::Mm);
+    let b = scene_bounds(&scene).expect("two finite samples");
+    assert_eq!(b, Rect::new(0.0, 0.0, 10.0, 10.0));
+    let view = View::fit(b, 50, 50, 5.0);
+    let p = render(&scene, &view, &RenderOptions::default()).expect("renders");
+    assert!(inked(&p).iter().any(|&i| i));
 }

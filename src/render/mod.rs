@@ -53,8 +53,8 @@ pub use colour::{
 };
 pub use error::{MAX_IMAGE_PIXELS, MAX_IMAGE_SIDE, RenderError};
 pub use legend::{
-    LEGEND_TICKS, RAMP_WIDTH_EM, SCALE_BAR_FRACTION, draw_legend, draw_scale_bar, scale_bar_label,
-    scale_bar_length,
+    LEGEND_TICKS, LegendLayout, RAMP_WIDTH_EM, SCALE_BAR_FRACTION, draw_legend, draw_scale_bar,
+    legend_layout, scale_bar_label, scale_bar_length,
 };
 pub use options::{Overlays, RenderOptions};
 pub use overlays::{
