@@ -12,7 +12,7 @@
 //! 5. [`chain`]: one log-aesthetic segment ([`lac`]) per span with the best α, refined
 //!    (Levenberg–Marquardt) into a G1 chain within the tolerance.
 //! 6. [`export`]: `kansei-curve` JSON (with JSON Schemas), SVG and DXF within a stated error
-//!    of the exact curves.
+//!    of the exact curves; [`render`]: raster images (PNG, the app's canvas) drawn with tiny-skia.
 //!
 //! [`pipeline`] composes the stages; [`cli`] is the command line.
 //!
@@ -41,5 +41,6 @@ pub mod geom;
 pub mod lac;
 pub mod pipeline;
 pub mod prepare;
+pub mod render;
 pub mod split;
 pub mod stroke;
