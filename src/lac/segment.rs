@@ -235,6 +235,33 @@ impl LacSegment {
         kappa0: f64,
         kappa1: f64,
     ) -> Result<Self, LacError> {
+        Self::build(start, theta0, length, alpha, kappa0, kappa1, None)
+    }
+
+    /// [`LacSegment::new`] for a caller that already knows the end point to within rounding of
+    /// the solver that produced the parameters (the Yoshida–Saito construction, whose segment
+    /// ends at its target point by construction): the end is taken, not integrated again.
+    pub(crate) fn with_known_end(
+        start: Point,
+        theta0: f64,
+        length: f64,
+        alpha: Option<f64>,
+        kappa0: f64,
+        kappa1: f64,
+        end: Point,
+    ) -> Result<Self, LacError> {
+        Self::build(start, theta0, length, alpha, kappa0, kappa1, Some(end))
+    }
+
+    fn build(
+        start: Point,
+        theta0: f64,
+        length: f64,
+        alpha: Option<f64>,
+        kappa0: f64,
+        kappa1: f64,
+        known_end: Option<Point>,
+    ) -> Result<Self, LacError> {
         for (field, v) in [
             ("start.x", start.x),
             ("start.y", start.y),
@@ -305,7 +332,7 @@ impl LacSegment {
             theta1: theta0,
             shape,
         };
-        seg.end = seg.start + seg.delta(0.0, 1.0);
+        seg.end = known_end.unwrap_or_else(|| seg.start + seg.delta(0.0, 1.0));
         seg.theta1 = theta0 + seg.turning(1.0);
         Ok(seg)
     }

@@ -321,7 +321,10 @@ pub fn fit_g1_near(
     } else {
         (kappa_lo, kappa_hi)
     };
-    LacSegment::new(a, angle_a, length, Some(alpha), kappa0, kappa1)
+    // The segment ends at `b`: the solve matched the chord angle to LOG_RATIO_TOLERANCE·dφ/dq
+    // (≲ 1e-13 rad) and the scale matched its length exactly, so b is its end to ~1e-13 of the
+    // chord; integrating the end again would only repeat the quadrature that set the scale.
+    LacSegment::with_known_end(a, angle_a, length, Some(alpha), kappa0, kappa1, b)
 }
 
 /// P(s_T) and dP/dq of the standard span in closed form, for α = 1 and α = 2 (`None` otherwise,
