@@ -68,6 +68,12 @@ const LIMIT_SERIES_MAX_TERMS: usize = 80;
 /// decides. Far above the series' rounding (≈ 1e-14 for turnings up to 2π).
 const LIMIT_PRECHECK_MARGIN: f64 = 1e-9;
 
+/// For α < 0, data whose larger end angle is within this of the series value of the edge's chord
+/// angle (radians) goes straight to the exact edge test: far above the series' rounding, so no
+/// data on the edge (within [`DRAWABLE_EDGE_TOLERANCE`]) is solved for a huge finite ratio instead
+/// of getting its exact κ = 0 end.
+const EDGE_NEAR: f64 = 1e-10;
+
 /// For α < 0, the κ = 0 edge is only examined when no root lies below this log curvature ratio
 /// (e^{40}): pen data is far inside, and the edge needs an integral over an unbounded range.
 const EDGE_CHECK_RATIO: f64 = 40.0;
@@ -156,29 +162,54 @@ impl StandardShape {
     }
 }
 
-/// The chord angle φ(q) of the standard span with log curvature ratio q > 0 and its derivative
-/// dφ/dq.
+/// The chord angle φ(q) and dφ/dq (see [`span_end_and_rate`]).
+#[cfg(test)]
+fn chord_angle_and_slope(alpha: f64, theta_t: f64, q: f64) -> Result<(f64, f64), LacError> {
+    let e = span_end_and_rate(alpha, theta_t, q)?;
+    Ok((e.p.y.atan2(e.p.x), e.angle_slope()))
+}
+
+/// The standard span's end P(s_T) and dP/dq at one q, both scaled by e^{−shift}.
+#[derive(Clone, Copy, Debug)]
+struct SpanEnd {
+    p: Vec2,
+    dp: Vec2,
+    shift: f64,
+}
+
+impl SpanEnd {
+    /// dφ/dq = Im(P̄·P′)/|P|² (the scale cancels).
+    fn angle_slope(&self) -> f64 {
+        (self.p.x * self.dp.y - self.p.y * self.dp.x) / self.p.hypot2()
+    }
+}
+
+/// [`SpanEnd`] at q > 0: closed forms for α = 1, 2 ([`closed_form_end`]); otherwise P = c·I with
 ///
-/// P ∝ I(q) = ∫₀^q e^{αu}·e^{iθ(u)} du with θ(u) = c·u·exprel((α−1)u), c = θ_T/(q·exprel((α−1)q))
+/// I(q) = ∫₀^q e^{αu}·e^{iθ(u)} du with θ(u) = c·u·exprel((α−1)u), c = θ_T/(q·exprel((α−1)q))
 /// ([`super::log_radius`]), so
 ///
 /// I′(q) = e^{αq}·e^{iθ_T} + i·(c′/c)·J,   J = ∫₀^q e^{αu}·e^{iθ(u)}·θ(u) du,
 /// c′/c = −1/(q·exprel(−(α−1)q)),
 ///
-/// (the first term from the moving upper limit, where θ(q) = θ_T), and dφ/dq = Im(Ī·I′)/|I|².
-/// Both integrals share one pass over the nodes; the common factor e^{−shift} cancels.
-fn chord_angle_and_slope(alpha: f64, theta_t: f64, q: f64) -> Result<(f64, f64), LacError> {
+/// (the first term from the moving upper limit, where θ(q) = θ_T), so dP/dq = c·((c′/c)·I + I′)
+/// and dφ/dq = Im(P̄·P′)/|P|². Both integrals share one pass over the nodes; the common factor
+/// e^{−shift} cancels in φ and its slope.
+fn span_end_and_rate(alpha: f64, theta_t: f64, q: f64) -> Result<SpanEnd, LacError> {
     let shape = StandardShape::new(alpha, theta_t, Some(q))?;
     if let Some((p, dp)) = closed_form_end(alpha, theta_t, q) {
-        return Ok((p.y.atan2(p.x), (p.x * dp.y - p.y * dp.x) / p.hypot2()));
+        return Ok(SpanEnd { p, dp, shift: 0.0 });
     }
     let shift = if alpha > 0.0 { alpha * q } else { 0.0 };
     let (i, j) = integrals(alpha, shape.inv_lambda, q, shift, true);
     let log_rate = -1.0 / (q * exprel(-(alpha - 1.0) * q));
     let boundary = cis(theta_t) * (alpha * q - shift).exp();
     let di = boundary + Vec2::new(-j.y, j.x) * log_rate;
-    let norm2 = i.hypot2();
-    Ok((i.y.atan2(i.x), (i.x * di.y - i.y * di.x) / norm2))
+    Ok(SpanEnd {
+        p: i * shape.inv_lambda,
+        dp: (i * log_rate + di) * shape.inv_lambda,
+        shift,
+    })
 }
 
 /// The LAC segment of slope `alpha` from `a` (unit tangent direction `ta`) to `b` (direction `tb`).
@@ -267,50 +298,53 @@ pub fn fit_g1_near(
     }
 
     // Far outside (beyond the limit φ_∞ by more than the series' accuracy): no solve needed.
-    if limit_chord_angle(alpha, theta_t).is_some_and(|limit| big > limit + LIMIT_PRECHECK_MARGIN) {
+    let limit = limit_chord_angle(alpha, theta_t);
+    if limit.is_some_and(|limit| big > limit + LIMIT_PRECHECK_MARGIN) {
         return Err(outside());
     }
-    let q = if alpha < 0.0 {
-        // Most data lies well inside the region: look for the root below a moderate ratio first,
-        // and only beyond it compare with the κ = 0 edge (an integral over an unbounded range).
-        match solve_q(alpha, theta_t, big, hint, EDGE_CHECK_RATIO)? {
-            Some(q) => Some(q),
-            None => {
-                let f_edge = StandardShape::new(alpha, theta_t, None)?.chord_angle(alpha) - big;
-                if f_edge < -DRAWABLE_EDGE_TOLERANCE {
-                    return Err(outside());
-                }
-                if f_edge <= 0.0 {
-                    None
-                } else {
-                    // Beyond q = 600 the far-end curvature is not representable. For α well below
-                    // 0 the chord angle there is within rounding of the edge's, which is then the
-                    // answer; near α = 0⁻ it approaches the edge only like e^{αq}, the data lies
-                    // between q = 600 and the edge, and no record can hold it.
-                    match solve_q(
-                        alpha,
-                        theta_t,
-                        big,
-                        Some(EDGE_CHECK_RATIO),
-                        MAX_LOG_CURVATURE_RATIO,
-                    )? {
-                        Some(q) => Some(q),
-                        None if f_edge <= DRAWABLE_EDGE_TOLERANCE => None,
-                        None => {
-                            return Err(LacError::CurvatureRatioOutOfRange {
-                                ratio: f64::INFINITY,
-                                alpha,
-                            });
-                        }
-                    }
-                }
+    // For α < 0: the exact κ = 0 edge test, then (inside it) the full-range solve.
+    let edge_path = || -> Result<Option<(f64, Option<SpanEnd>)>, LacError> {
+        let f_edge = StandardShape::new(alpha, theta_t, None)?.chord_angle(alpha) - big;
+        if f_edge < -DRAWABLE_EDGE_TOLERANCE {
+            return Err(outside());
+        }
+        if f_edge <= 0.0 {
+            return Ok(None);
+        }
+        // Beyond q = 600 the far-end curvature is not representable. For α well below 0 the
+        // chord angle there is within rounding of the edge's, which is then the answer; near
+        // α = 0⁻ it approaches the edge only like e^{αq}, the data lies between q = 600 and the
+        // edge, and no record can hold it.
+        match solve_q(alpha, theta_t, big, hint, MAX_LOG_CURVATURE_RATIO)? {
+            Some(solved) => Ok(Some(solved)),
+            None if f_edge <= DRAWABLE_EDGE_TOLERANCE => Ok(None),
+            None => Err(LacError::CurvatureRatioOutOfRange {
+                ratio: f64::INFINITY,
+                alpha,
+            }),
+        }
+    };
+    // (q, its end when the solve already has it); `None`: the κ = 0 edge.
+    let solved: Option<(f64, Option<SpanEnd>)> = if alpha < 0.0 {
+        if limit.is_some_and(|limit| big >= limit - EDGE_NEAR) {
+            // On or next to the edge: decide exactly, so that edge data gets κ = 0 exactly.
+            edge_path()?
+        } else {
+            // Most data lies well inside: look for the root below a moderate ratio first.
+            match solve_q(alpha, theta_t, big, hint, EDGE_CHECK_RATIO)? {
+                Some(solved) => Some(solved),
+                None => edge_path()?,
             }
         }
     } else {
         Some(solve_q(alpha, theta_t, big, hint, MAX_LOG_CURVATURE_RATIO)?.ok_or_else(outside)?)
     };
+    let q = solved.map(|(q, _)| q);
     let shape = StandardShape::new(alpha, theta_t, q)?;
-    let (end, shift) = shape.scaled_end(alpha);
+    let (end, shift) = match solved.and_then(|(_, end)| end) {
+        Some(e) => (e.p, e.shift),
+        None => shape.scaled_end(alpha),
+    };
     // |AB| = scale·|P(s_T)| = scale·e^{shift}·|end|.
     let scale = c / end.hypot() * (-shift).exp();
     let kappa_hi = sigma / scale;
@@ -390,7 +424,7 @@ fn limit_chord_angle(alpha: f64, theta_t: f64) -> Option<f64> {
 }
 
 /// Solves φ(q) = `big` for q by Newton's method on φ(q) − big with the analytic slope of
-/// [`chord_angle_and_slope`], safeguarded by a bracket: φ(0) = θ_T/2 < big and φ increases with q,
+/// [`span_end_and_rate`], safeguarded by a bracket: φ(0) = θ_T/2 < big and φ increases with q,
 /// so every evaluation moves one end of [lo, hi]; a Newton step that leaves the bracket is replaced
 /// by bisection (or, while no upper end is known, by at most quadrupling q). Starts from `hint`
 /// (a nearby solution, e.g. the previous iterate of a chain refinement) or q = 1.
@@ -404,7 +438,7 @@ fn solve_q(
     big: f64,
     hint: Option<f64>,
     q_max: f64,
-) -> Result<Option<f64>, LacError> {
+) -> Result<Option<(f64, Option<SpanEnd>)>, LacError> {
     let (mut lo, mut hi) = (0.0_f64, f64::INFINITY);
     // Whether φ(hi) ≥ big was seen (hi may also be a q at which the shape overflows).
     let mut bracketed = false;
@@ -412,7 +446,7 @@ fn solve_q(
     let mut previous_step: Option<f64> = None;
     let mut q = hint.filter(|&h| h > 0.0 && h <= q_max).unwrap_or(1.0);
     for _ in 0..MAX_SOLVE_STEPS {
-        let (phi, slope) = match chord_angle_and_slope(alpha, theta_t, q) {
+        let end = match span_end_and_rate(alpha, theta_t, q) {
             Ok(v) => v,
             // ρ_T^α (or s_T) overflows f64 here: the root, if any, lies below q.
             Err(LacError::CurvatureRatioOutOfRange { .. }) if q > lo && !bracketed => {
@@ -425,9 +459,10 @@ fn solve_q(
             }
             Err(e) => return Err(e),
         };
+        let (phi, slope) = (end.p.y.atan2(end.p.x), end.angle_slope());
         let f = phi - big;
         if f == 0.0 {
-            return Ok(Some(q));
+            return Ok(Some((q, Some(end))));
         }
         if f < 0.0 {
             lo = q;
@@ -448,7 +483,13 @@ fn solve_q(
                     && step * step * step <= LOG_RATIO_TOLERANCE * p * p
             });
             if step <= LOG_RATIO_TOLERANCE || settled {
-                return Ok(Some(newton));
+                // The end at the new q to first order (its error ≈ |P″|·step², below the
+                // solver's own tolerance once settled).
+                let moved = SpanEnd {
+                    p: end.p + end.dp * (newton - q),
+                    ..end
+                };
+                return Ok(Some((newton, Some(moved))));
             }
             previous_step = Some(step);
         } else {
@@ -466,12 +507,12 @@ fn solve_q(
         };
         if hi - lo <= LOG_RATIO_TOLERANCE {
             // Without a sign change the bracket closed on the overflow bound: no representable root.
-            return Ok(bracketed.then_some(next));
+            return Ok(bracketed.then_some((next, None)));
         }
         q = next;
     }
     // Not reached in practice: bisection alone shrinks [0, 600] below the tolerance in 53 steps.
-    Ok(bracketed.then_some(0.5 * (lo + hi)))
+    Ok(bracketed.then_some((0.5 * (lo + hi), None)))
 }
 
 #[cfg(test)]
