@@ -91,6 +91,15 @@ pub struct FitSettings {
     pub alpha_range: Option<(f64, f64)>,
 }
 
+/// Parses `WIDTHxHEIGHT` (or `WIDTH×HEIGHT`) into a pixel size; the render checks the range.
+fn parse_size(text: &str) -> Result<(u32, u32), String> {
+    let (w, h) = text
+        .split_once(['x', 'X', '×'])
+        .ok_or_else(|| format!("expected WIDTHxHEIGHT, got {text:?}"))?;
+    let parse = |x: &str| x.trim().parse::<u32>().map_err(|e| format!("{x:?}: {e}"));
+    Ok((parse(w)?, parse(h)?))
+}
+
 /// Parses `MIN:MAX` into a finite, non-empty interval.
 fn parse_alpha_range(text: &str) -> Result<(f64, f64), String> {
     let (a, b) = text
@@ -136,6 +145,14 @@ pub struct FitArgs {
     /// With several inputs, a directory that receives `<input stem>.svg` for each.
     #[arg(long)]
     pub svg: Option<PathBuf>,
+    /// Also write a PNG (samples, B-spline, split markers, LAC segments coloured by α, legend,
+    /// scale bar), drawn by the `render` module. With several inputs, a directory that
+    /// receives `<input stem>.png` for each.
+    #[arg(long)]
+    pub png: Option<PathBuf>,
+    /// Size of the PNG, WIDTHxHEIGHT pixels.
+    #[arg(long, value_parser = parse_size, default_value = "1600x1000")]
+    pub size: (u32, u32),
     /// Include each segment's logarithmic curvature graphs (LAC and B-spline) in the JSON.
     #[arg(long)]
     pub lcg: bool,
@@ -192,6 +209,14 @@ pub enum CliError {
         path: PathBuf,
         /// What went wrong.
         message: String,
+    },
+    /// An image could not be drawn.
+    #[error("{path}: {source}")]
+    Render {
+        /// The image file.
+        path: PathBuf,
+        /// The cause.
+        source: crate::render::RenderError,
     },
     /// Bad arguments.
     #[error("{0}")]
@@ -515,7 +540,7 @@ fn fit(args: &FitArgs, out: &mut dyn std::io::Write) -> Result<(), CliError> {
         )));
     }
     let several = args.inputs.len() > 1;
-    for dir in [&args.json, &args.svg]
+    for dir in [&args.json, &args.svg, &args.png]
         .into_iter()
         .flatten()
         .filter(|_| several)
@@ -578,6 +603,15 @@ fn fit(args: &FitArgs, out: &mut dyn std::io::Write) -> Result<(), CliError> {
                 quick_look(&file, &output).as_bytes(),
             )?;
         }
+        if let Some(path) = &args.png {
+            let target = target(input, path, "png");
+            let png =
+                quick_look_png(&file, &output, args.size).map_err(|source| CliError::Render {
+                    path: target.clone(),
+                    source,
+                })?;
+            write_atomic(&target, &png)?;
+        }
         match &args.json {
             None => {
                 let text = if several {
@@ -624,6 +658,23 @@ fn quick_look(file: &StrokeFile, output: &crate::pipeline::FitOutput) -> String 
         splits: &splits,
     };
     quick_look_svg(&layers, &SvgOptions::for_units(file.units))
+}
+
+/// Margin around the scene in `kansei fit --png`, pixels: room for the scale bar below and the
+/// split markers at the edges.
+pub const PNG_MARGIN_PX: f64 = 48.0;
+
+/// The PNG of a fitted file: the default overlays, the whole scene in view.
+fn quick_look_png(
+    file: &StrokeFile,
+    output: &crate::pipeline::FitOutput,
+    (width, height): (u32, u32),
+) -> Result<Vec<u8>, crate::render::RenderError> {
+    use crate::render::{RenderOptions, Scene, View, render_png, scene_bounds};
+    let scene = Scene::new(&file.strokes, &output.curves, file.units);
+    let bounds = scene_bounds(&scene).unwrap_or_default();
+    let view = View::fit(bounds, width, height, PNG_MARGIN_PX);
+    render_png(&scene, &view, &RenderOptions::default())
 }
 
 /// Writes through a temporary file and a rename, so a reader never sees half a file.

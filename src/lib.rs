@@ -11,7 +11,8 @@
 //!    monotonic curvature.
 //! 5. [`chain`]: one log-aesthetic segment ([`lac`]) per span with the best α, refined
 //!    (Levenberg–Marquardt) into a G1 chain within the tolerance.
-//! 6. [`export`]: `kansei-curve` JSON and a quick-look SVG.
+//! 6. [`export`]: `kansei-curve` JSON and a quick-look SVG; [`render`]: raster images (PNG, the
+//!    app's canvas) drawn with tiny-skia.
 //!
 //! [`pipeline`] composes the stages; [`cli`] is the command line.
 //!
@@ -40,5 +41,6 @@ pub mod geom;
 pub mod lac;
 pub mod pipeline;
 pub mod prepare;
+pub mod render;
 pub mod split;
 pub mod stroke;
