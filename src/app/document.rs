@@ -145,6 +145,7 @@ pub struct Document {
     strokes: Vec<DocStroke>,
     next_id: u64,
     next_revision: u64,
+    changes: u64,
     undo: Vec<Edit>,
     redo: Vec<Edit>,
 }
@@ -164,6 +165,7 @@ impl Document {
             strokes: Vec::new(),
             next_id: 0,
             next_revision: 0,
+            changes: 0,
             undo: Vec::new(),
             redo: Vec::new(),
         }
@@ -182,6 +184,11 @@ impl Document {
     /// The stroke with this id and its index.
     pub fn find(&self, id: StrokeId) -> Option<(usize, &DocStroke)> {
         self.strokes.iter().enumerate().find(|(_, s)| s.id == id)
+    }
+
+    /// Counts the changes made so far (edits, undos, redos): equal counts, same drawing.
+    pub fn changes(&self) -> u64 {
+        self.changes
     }
 
     /// Whether [`Document::undo`] has something to undo.
@@ -277,6 +284,12 @@ impl Document {
 
     /// Applies an edit without touching the history; returns its inverse.
     fn perform(&mut self, edit: Edit) -> Result<(Edit, Option<StrokeId>), EditError> {
+        let done = self.perform_unrecorded(edit)?;
+        self.changes += 1;
+        Ok(done)
+    }
+
+    fn perform_unrecorded(&mut self, edit: Edit) -> Result<(Edit, Option<StrokeId>), EditError> {
         match edit {
             Edit::AddStroke { stroke, settings } => {
                 if !settings.is_valid() {
