@@ -74,6 +74,7 @@ pub struct Canvas {
     texture: Option<TextureHandle>,
     rendered: Option<Rendered>,
     error: Option<String>,
+    rect: Option<Rect>,
 }
 
 impl std::fmt::Debug for Canvas {
@@ -101,6 +102,11 @@ impl Canvas {
         self.rendered.as_ref()
     }
 
+    /// Where the canvas was last shown, screen points.
+    pub fn screen_rect(&self) -> Option<Rect> {
+        self.rect
+    }
+
     /// Whether a stroke is being drawn.
     pub fn is_drawing(&self) -> bool {
         self.live.is_some()
@@ -117,6 +123,7 @@ impl Canvas {
     ) -> Option<Stroke> {
         let (response, painter) = ui.allocate_painter(ui.available_size(), Sense::click_and_drag());
         let rect = response.rect;
+        self.rect = Some(rect);
         let ppp = f64::from(ui.ctx().pixels_per_point());
         let width = (f64::from(rect.width()) * ppp).round().max(1.0) as u32;
         let height = (f64::from(rect.height()) * ppp).round().max(1.0) as u32;

@@ -110,14 +110,15 @@ pub fn settings(
     let mut s = current;
     let mut tolerance = s.tolerance.unwrap_or(units.default_tolerance());
     ui.horizontal(|ui| {
-        ui.label("tolerance");
+        let label = ui.label("tolerance");
         let step = units.default_tolerance() / 10.0;
         ui.add(
             DragValue::new(&mut tolerance)
                 .speed(step)
                 .range(step..=f64::MAX)
                 .suffix(format!(" {}", units.name())),
-        );
+        )
+        .labelled_by(label.id);
     });
     if tolerance != s.tolerance.unwrap_or(units.default_tolerance()) {
         s.tolerance = Some(tolerance);
@@ -133,16 +134,23 @@ pub fn settings(
     s.alpha = match (fixed, s.alpha) {
         (true, AlphaChoice::Fixed(a)) => {
             let mut a = a;
-            ui.add(DragValue::new(&mut a).speed(0.05).range(-ALPHA_LIMIT..=ALPHA_LIMIT));
+            ui.horizontal(|ui| {
+                let label = ui.label("α =");
+                ui.add(DragValue::new(&mut a).speed(0.05).range(-ALPHA_LIMIT..=ALPHA_LIMIT))
+                    .labelled_by(label.id);
+            });
             AlphaChoice::Fixed(a)
         }
         (true, AlphaChoice::Range { .. }) => AlphaChoice::Fixed(middle),
         (false, AlphaChoice::Range { min, max }) => {
             let (mut min, mut max) = (min, max);
             ui.horizontal(|ui| {
-                ui.add(DragValue::new(&mut min).speed(0.05).range(-ALPHA_LIMIT..=max));
-                ui.label("to");
-                ui.add(DragValue::new(&mut max).speed(0.05).range(min..=ALPHA_LIMIT));
+                let from = ui.label("from");
+                ui.add(DragValue::new(&mut min).speed(0.05).range(-ALPHA_LIMIT..=max))
+                    .labelled_by(from.id);
+                let to = ui.label("to");
+                ui.add(DragValue::new(&mut max).speed(0.05).range(min..=ALPHA_LIMIT))
+                    .labelled_by(to.id);
             });
             AlphaChoice::Range { min, max }
         }
@@ -156,13 +164,14 @@ pub fn settings(
         },
     };
     ui.horizontal(|ui| {
-        ui.label("corner angle");
+        let label = ui.label("corner angle");
         ui.add(
             DragValue::new(&mut s.corner_angle)
                 .speed(1.0)
                 .range(CORNER_ANGLE_RANGE.0..=CORNER_ANGLE_RANGE.1)
                 .suffix("°"),
-        );
+        )
+        .labelled_by(label.id);
     });
     if ui.button("defaults").clicked() {
         s = FitSettings::default();
