@@ -157,7 +157,8 @@ pub(crate) fn refine(state: &mut State<'_>, options: &RefineOptions) -> Option<R
             let mut probe = state.clone();
             add(&mut probe, u, h, options);
             for k in touched(u, state.len()) {
-                let Ok(e) = probe.evaluate(k, options.chord_error) else {
+                let Ok(e) = probe.evaluate_near(k, options.chord_error, Some(&current[k].segment))
+                else {
                     continue;
                 };
                 let (cols, col) = (ranges[k].len(), c - ranges[k].start);
@@ -201,7 +202,7 @@ pub(crate) fn refine(state: &mut State<'_>, options: &RefineOptions) -> Option<R
             for (c, &u) in unknowns.iter().enumerate() {
                 add(&mut trial, u, -delta[c], options);
             }
-            match trial.evaluate_all(options.chord_error) {
+            match trial.evaluate_all_near(options.chord_error, &current) {
                 Ok(e) if cost(&e) < current_cost => {
                     let new_cost = cost(&e);
                     let decrease = (current_cost - new_cost) / current_cost;

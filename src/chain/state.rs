@@ -1,8 +1,8 @@
 //! The chain as unknowns: joints (position, tangent angle) and one α per segment. Every segment
-//! is the Yoshida–Saito segment of its two joints ([`fit_g1`]), so any state is G1.
+//! is the Yoshida–Saito segment of its two joints ([`crate::lac::fit_g1`]), so any state is G1.
 
 use crate::geom::{Point, Vec2};
-use crate::lac::{LacError, LacSegment, deviation, fit_g1, within};
+use crate::lac::{LacError, LacSegment, deviation, fit_g1_near, within};
 
 use super::JointKind;
 
@@ -49,6 +49,8 @@ pub(crate) struct Evaluated {
     pub residuals: Vec<f64>,
     /// Largest |residual|.
     pub max: f64,
+    /// The segment.
+    pub segment: LacSegment,
 }
 
 impl State<'_> {
@@ -59,8 +61,18 @@ impl State<'_> {
 
     /// Segment `k` of the state.
     pub fn segment(&self, k: usize) -> Result<LacSegment, LacError> {
+        self.segment_near(k, None)
+    }
+
+    /// Segment `k`, its construction warm-started from `near` (the same segment in a nearby
+    /// state; see [`fit_g1_near`]).
+    pub fn segment_near(
+        &self,
+        k: usize,
+        near: Option<&LacSegment>,
+    ) -> Result<LacSegment, LacError> {
         let (a, b) = (self.joints[k], self.joints[k + 1]);
-        let segment = fit_g1(a.p, a.tangent(), b.p, b.tangent(), self.alphas[k])?;
+        let segment = fit_g1_near(a.p, a.tangent(), b.p, b.tangent(), self.alphas[k], near)?;
         if within(&segment, self.max_curvature) {
             Ok(segment)
         } else {
@@ -73,7 +85,17 @@ impl State<'_> {
     /// Segment `k` and its samples' signed distances (exact foot points; `chord_error` only sets
     /// the tracing that seeds them).
     pub fn evaluate(&self, k: usize, chord_error: f64) -> Result<Evaluated, LacError> {
-        let segment = self.segment(k)?;
+        self.evaluate_near(k, chord_error, None)
+    }
+
+    /// [`State::evaluate`] warm-started from `near` (see [`State::segment_near`]).
+    pub fn evaluate_near(
+        &self,
+        k: usize,
+        chord_error: f64,
+        near: Option<&LacSegment>,
+    ) -> Result<Evaluated, LacError> {
+        let segment = self.segment_near(k, near)?;
         let d = deviation(&segment, &self.points_of(k), chord_error);
         let residuals = d
             .distances
@@ -84,6 +106,7 @@ impl State<'_> {
         Ok(Evaluated {
             residuals,
             max: d.max,
+            segment,
         })
     }
 
@@ -96,6 +119,18 @@ impl State<'_> {
     pub fn evaluate_all(&self, chord_error: f64) -> Result<Vec<Evaluated>, LacError> {
         (0..self.len())
             .map(|k| self.evaluate(k, chord_error))
+            .collect()
+    }
+
+    /// [`State::evaluate_all`], each segment warm-started from the same segment of `near` (an
+    /// evaluation of a nearby state with as many segments).
+    pub fn evaluate_all_near(
+        &self,
+        chord_error: f64,
+        near: &[Evaluated],
+    ) -> Result<Vec<Evaluated>, LacError> {
+        (0..self.len())
+            .map(|k| self.evaluate_near(k, chord_error, near.get(k).map(|e| &e.segment)))
             .collect()
     }
 }

@@ -14,7 +14,7 @@ use super::deviation::{Deviation, deviation, rough_deviation};
 use super::error::LacError;
 use super::minimize::brent;
 use super::segment::LacSegment;
-use super::yoshida_saito::fit_g1;
+use super::yoshida_saito::{fit_g1, fit_g1_near};
 use crate::geom::{Point, Vec2};
 
 /// Grid step of the coarse α scan. 0.5 resolves the cells in which the objective is unimodal on
@@ -129,11 +129,13 @@ pub fn fit_span(
     };
     let mut evaluations = 0usize;
     let search_chord = SEARCH_CHORD_FACTOR * chord_error;
+    // The last segment built starts the next construction: successive α are close.
+    let mut last: Option<LacSegment> = None;
     let mut evaluate = |alpha: f64| -> Option<(LacSegment, Deviation)> {
         evaluations += 1;
-        let segment = fit_g1(a, ta, b, tb, alpha)
-            .ok()
-            .filter(|s| within(s, max_curvature))?;
+        let built = fit_g1_near(a, ta, b, tb, alpha, last.as_ref()).ok()?;
+        last = Some(built);
+        let segment = Some(built).filter(|s| within(s, max_curvature))?;
         let d = rough_deviation(&segment, samples, search_chord);
         Some((segment, d))
     };

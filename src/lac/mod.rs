@@ -8,6 +8,7 @@
 //!
 //! * [`standard`]: the normalised form (origin, tangent +x, ρ(0) = 1, shape parameter Λ): κ(s),
 //!   θ(s), s(θ) in closed form, P(s) by closed forms (α = 1, 2) or quadrature.
+//! * [`log_radius`]: the fast quadrature in w = ln ρ, whose integrand is entire.
 //! * [`quadrature`]: adaptive Gauss–Legendre panels graded in ln ρ, with an exact series at the
 //!   κ = 0 end of α < 0 curves.
 //! * [`segment`]: the canonical segment record ([`LacSegment`], JSON via serde) and its evaluation,
@@ -26,6 +27,7 @@ pub mod biarc;
 pub mod deviation;
 pub mod error;
 pub mod lcg;
+pub mod log_radius;
 pub mod minimize;
 pub mod quadrature;
 pub mod segment;
@@ -40,4 +42,4 @@ pub use error::LacError;
 pub use lcg::{LcgLine, LcgPoint, lcg_line, lcg_of_bezier_span, lcg_of_segment, lcg_slope};
 pub use segment::{LacSample, LacSamples, LacSegment, LacSegmentRecord};
 pub use standard::StandardLac;
-pub use yoshida_saito::fit_g1;
+pub use yoshida_saito::{fit_g1, fit_g1_near};

@@ -24,6 +24,7 @@
 //! special case and α near 0 or 1 suffers no cancellation.
 
 use super::error::LacError;
+use super::log_radius::log_radius_integral;
 use super::quadrature;
 use super::special::{SERIES_MAX_TERMS, SERIES_TERM_EPS, cdiv, cexpm1, cis, cmul, exprel, lnrel};
 use crate::geom::{Point, Vec2};
@@ -207,9 +208,37 @@ impl StandardLac {
         }
         if self.alpha == 1.0 || self.alpha == 2.0 {
             self.closed_form(b) - self.closed_form(a)
-        } else {
+        } else if self.lambda == 0.0 {
             quadrature::integrate(self, a, b)
+        } else {
+            self.integral_in_log_radius(a, b)
         }
+    }
+
+    /// ∫_a^b e^{iθ} ds by the substitution w = ln ρ of [`super::log_radius`] (Λ > 0, a < b).
+    ///
+    /// With y_a = αΛa (ρ_a^α = 1 + y_a) and d = b − a, ρ_b^α = ρ_a^α + αΛd, so
+    /// U = ln(ρ_b/ρ_a) = (Λd/(1 + y_a))·lnrel(αΛd/(1 + y_a)), without the cancellation of
+    /// ln ρ_b − ln ρ_a when d is small; U = ∞ once b reaches the κ = 0 point.
+    fn integral_in_log_radius(&self, a: f64, b: f64) -> Vec2 {
+        let d = (b - a) / self.s_ref;
+        let one_plus_ya = 1.0 + self.y(a);
+        let upper = if self.y(b) <= -1.0 || one_plus_ya <= 0.0 {
+            f64::INFINITY
+        } else {
+            let z = self.m_ref * d / one_plus_ya;
+            self.l_ref * d / one_plus_ya * lnrel(z)
+        };
+        let w_a = self.ln_rho(a);
+        let c = ((self.alpha - 1.0) * w_a).exp() / self.lambda;
+        // For α > 0 the amplitude e^{αu} peaks at u = U: integrate relative to it.
+        let shift = if self.alpha > 0.0 {
+            self.alpha * upper
+        } else {
+            0.0
+        };
+        let integral = log_radius_integral(self.alpha, c, upper, shift);
+        cmul(cis(self.theta(a)), integral) * ((self.alpha * w_a + shift).exp() / self.lambda)
     }
 
     /// Closed-form P(s) for α = 1 and α = 2 (only called for those).

@@ -8,7 +8,7 @@ use super::options::RenderOptions;
 use super::primitives::{fill, polyline, stroke};
 use super::text::{draw_text, text_width};
 use super::view::View;
-use crate::geom::Point;
+use crate::geom::{Point, Rect};
 use crate::stroke::Units;
 use tiny_skia::{PathBuilder, Pixmap};
 
@@ -33,31 +33,63 @@ fn rect(pixmap: &mut Pixmap, x: f64, y: f64, w: f64, h: f64, rgba: Rgba) {
     }
 }
 
-/// Draws the legend: a panel at the top right with the α ramp ([`alpha_colour`] sampled per
-/// pixel column from [`ALPHA_BLUE_END`] to [`ALPHA_RED_END`]), its tick labels
-/// ([`LEGEND_TICKS`]), the symbol α, and a black swatch labelled "arc/line" (α = null).
+/// Where the legend sits, pixels ([`legend_layout`]).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct LegendLayout {
+    /// The panel (white, framed).
+    pub panel: Rect,
+    /// The colour ramp: α runs linearly from [`ALPHA_BLUE_END`] at `ramp.x0` to
+    /// [`ALPHA_RED_END`] at `ramp.x1`; its corners are whole pixels.
+    pub ramp: Rect,
+}
+
+/// The legend's layout for an image `image_width` pixels wide with text of cap height
+/// `text_size` (`None` for a non-positive size: no legend).
+pub fn legend_layout(image_width: u32, text_size: f64) -> Option<LegendLayout> {
+    let t = text_size;
+    if !(t > 0.0 && t.is_finite()) {
+        return None;
+    }
+    let (pad, gap) = (0.6 * t, 0.5 * t);
+    let ramp_w = (RAMP_WIDTH_EM * t).round().max(1.0);
+    let ramp_h = (0.9 * t).round().max(1.0);
+    // The end labels are centred on the ramp's ends and overhang them by half their width.
+    let label_half = 0.5 * text_width(&tick_label(ALPHA_BLUE_END), t);
+    let ramp_left = (text_width("α", t) + gap).max(label_half);
+    let inner_w =
+        (ramp_left + ramp_w + label_half).max(2.0 * t + gap + text_width(SWATCH_LABEL, t));
+    let panel_w = inner_w + 2.0 * pad;
+    // Rows: ramp, gap, tick labels, gap, swatch.
+    let panel_h = pad + ramp_h + gap + t + 1.5 * gap + t + pad;
+    let x0 = f64::from(image_width) - pad - panel_w;
+    let y0 = pad;
+    let ramp_x = (x0 + pad + ramp_left).round();
+    let ramp_y = (y0 + pad).round();
+    Some(LegendLayout {
+        panel: Rect::new(x0, y0, x0 + panel_w, y0 + panel_h),
+        ramp: Rect::new(ramp_x, ramp_y, ramp_x + ramp_w, ramp_y + ramp_h),
+    })
+}
+
+/// Label of the legend's black swatch.
+const SWATCH_LABEL: &str = "arc/line";
+
+/// Draws the legend ([`legend_layout`]): a panel at the top right with the α ramp
+/// ([`alpha_colour`] at the centre of each pixel column), its tick labels ([`LEGEND_TICKS`]),
+/// the symbol α, and a black swatch labelled "arc/line" (α = null).
 ///
 /// [`alpha_colour`]: super::colour::alpha_colour
 pub fn draw_legend(pixmap: &mut Pixmap, options: &RenderOptions) {
     let t = options.text_size;
-    if !(t > 0.0) {
+    let Some(layout) = legend_layout(pixmap.width(), t) else {
         return;
-    }
-    let pad = 0.6 * t;
-    let gap = 0.5 * t;
-    let alpha_w = text_width("α", t);
-    let ramp_w = (RAMP_WIDTH_EM * t).round();
-    let ramp_h = 0.9 * t;
-    // The end labels are centred on the ramp's ends and overhang them by half their width.
-    let label_half = 0.5 * text_width(&tick_label(ALPHA_BLUE_END), t);
-    let swatch = "arc/line";
-    let ramp_left = (alpha_w + gap).max(label_half);
-    let inner_w = (ramp_left + ramp_w + label_half).max(2.0 * t + gap + text_width(swatch, t));
-    let panel_w = inner_w + 2.0 * pad;
-    // Rows: ramp, gap, tick labels, gap, swatch.
-    let panel_h = pad + ramp_h + gap + t + 1.5 * gap + t + pad;
-    let x0 = f64::from(pixmap.width()) - pad - panel_w;
-    let y0 = pad;
+    };
+    let (pad, gap) = (0.6 * t, 0.5 * t);
+    let swatch = SWATCH_LABEL;
+    let p = layout.panel;
+    let (x0, y0, panel_w, panel_h) = (p.x0, p.y0, p.width(), p.height());
+    let (ramp_x, ramp_y) = (layout.ramp.x0, layout.ramp.y0);
+    let (ramp_w, ramp_h) = (layout.ramp.width(), layout.ramp.height());
     rect(pixmap, x0, y0, panel_w, panel_h, PANEL);
     if let Some(frame) = polyline(
         [
@@ -73,8 +105,6 @@ pub fn draw_legend(pixmap: &mut Pixmap, options: &RenderOptions) {
     }
 
     // α and the ramp.
-    let ramp_x = x0 + pad + ramp_left;
-    let ramp_y = y0 + pad;
     draw_text(
         pixmap,
         "α",

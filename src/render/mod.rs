@@ -14,8 +14,9 @@
 //! ```
 //!
 //! LAC segments are evaluated exactly ([`LacSegment::samples`](crate::lac::LacSegment::samples)
-//! every [`SEGMENT_STEP_PX`] pixels), not through the B-spline; circular arcs and lines
-//! (α = null) are drawn as arcs and lines.
+//! at [`segment_spacing`]: within [`SEGMENT_CHORD_ERROR_PX`] of the curve, at most
+//! [`SEGMENT_STEP_PX`] apart), not through the B-spline; circular arcs and lines (α = null) are
+//! drawn as arcs and lines.
 //!
 //! ```
 //! use kansei::geom::Point;
@@ -52,17 +53,19 @@ pub use colour::{
 };
 pub use error::{MAX_IMAGE_PIXELS, MAX_IMAGE_SIDE, RenderError};
 pub use legend::{
-    LEGEND_TICKS, RAMP_WIDTH_EM, SCALE_BAR_FRACTION, draw_legend, draw_scale_bar, scale_bar_label,
-    scale_bar_length,
+    LEGEND_TICKS, LegendLayout, RAMP_WIDTH_EM, SCALE_BAR_FRACTION, draw_legend, draw_scale_bar,
+    legend_layout, scale_bar_label, scale_bar_length,
 };
 pub use options::{Overlays, RenderOptions};
 pub use overlays::{
-    ARC_TOLERANCE_PX, COMB_HEIGHT_FRACTION, COMB_QUANTILE, COMB_SCALE_SAMPLES, MAX_SEGMENT_POINTS,
-    SEGMENT_STEP_PX, auto_comb_scale, sample_radius, segment_path, segment_spacing,
+    ARC_TOLERANCE_PX, COMB_HEIGHT_FRACTION, COMB_MAX_TOOTH_FRACTION, COMB_QUANTILE,
+    COMB_SCALE_SAMPLES, CULL_PAD_PX, MAX_SEGMENT_POINTS, SEGMENT_CHORD_ERROR_PX,
+    SEGMENT_MAX_TURNING, SEGMENT_MIN_STEP_PX, SEGMENT_STEP_PX, auto_comb_scale, sample_radius,
+    segment_may_show, segment_path, segment_spacing,
 };
 pub use primitives::{MarkerShape, PIXEL_COORD_LIMIT};
 pub use scene::{BOUNDS_POINTS_PER_SEGMENT, Scene, render, render_png, scene_bounds};
-pub use text::{GLYPH_ADVANCE, GLYPH_GRID, GLYPH_WIDTH, draw_text, text_width};
+pub use text::{GLYPH_ADVANCE, GLYPH_GRID, GLYPH_WIDTH, draw_text, glyph, text_width};
 pub use view::{FALLBACK_PIXELS_PER_UNIT, MIN_FIT_EXTENT_PX, View};
 
 /// Re-exported so users need not depend on tiny-skia themselves to name the result.

@@ -55,9 +55,14 @@ impl Overlays {
 impl Default for Overlays {
     fn default() -> Self {
         Overlays {
+            samples: true,
+            bspline: true,
             control_polygon: false,
+            splits: true,
+            segments: true,
             comb: false,
-            ..Overlays::ALL
+            legend: true,
+            scale_bar: true,
         }
     }
 }
@@ -122,6 +127,22 @@ impl RenderOptions {
         RenderOptions {
             overlays,
             ..RenderOptions::default()
+        }
+    }
+
+    /// The options with every pixel size multiplied by `factor` (e.g. a screen's scale factor;
+    /// the comb scale, in model units, is kept).
+    pub fn scaled(self, factor: f64) -> Self {
+        RenderOptions {
+            segment_width: self.segment_width * factor,
+            bspline_width: self.bspline_width * factor,
+            control_polygon_width: self.control_polygon_width * factor,
+            sample_radius: self.sample_radius * factor,
+            marker_size: self.marker_size * factor,
+            comb_spacing: self.comb_spacing * factor,
+            highlight_width: self.highlight_width * factor,
+            text_size: self.text_size * factor,
+            ..self
         }
     }
 

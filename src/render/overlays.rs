@@ -15,9 +15,21 @@ use crate::split::SplitKind;
 use kurbo::{Arc, PathEl};
 use tiny_skia::{Path, Pixmap};
 
-/// Spacing of the evaluated LAC points, pixels: a quarter pixel keeps the polyline's chord error
-/// below 1/32 px for any curve whose radius is at least a pixel (sagitta h²/8r), invisible.
-pub const SEGMENT_STEP_PX: f64 = 0.25;
+/// Longest step between evaluated LAC points, pixels: a straight-ish segment still gets a point
+/// every two pixels.
+pub const SEGMENT_STEP_PX: f64 = 2.0;
+
+/// Largest distance between the drawn polyline and the exact LAC, pixels: a twentieth of a
+/// pixel is invisible (anti-aliasing resolves about a sixteenth of a pixel's coverage).
+pub const SEGMENT_CHORD_ERROR_PX: f64 = 0.05;
+
+/// Shortest step between evaluated LAC points, pixels: where the curvature radius is below a few
+/// pixels the curl is a blob of a pixel or two whatever its shape, and finer steps only cost.
+pub const SEGMENT_MIN_STEP_PX: f64 = 0.25;
+
+/// Largest turning of the LAC between two evaluated points, radians: keeps the sagitta bound
+/// of [`segment_spacing`] valid (it needs the turning per step well below π).
+pub const SEGMENT_MAX_TURNING: f64 = 0.5;
 
 /// Most points evaluated per LAC segment: beyond, the spacing widens (a segment hundreds of
 /// thousands of pixels long is mostly off the image at that zoom).
@@ -34,14 +46,72 @@ pub const COMB_SCALE_SAMPLES: usize = 17;
 /// otherwise flatten the rest of the comb.
 pub const COMB_QUANTILE: f64 = 0.95;
 
+/// Longest comb tooth drawn, as a fraction of the scene's diagonal: a tight curl's tooth (its κ
+/// far above the quantile) is cut to this length instead of crossing the whole image.
+pub const COMB_MAX_TOOTH_FRACTION: f64 = 0.3;
+
 /// Length of the reference tooth of [`auto_comb_scale`], as a fraction of the scene's diagonal.
 pub const COMB_HEIGHT_FRACTION: f64 = 0.1;
 
-/// Arc-length spacing (model units) at which a segment is evaluated in `view`:
-/// [`SEGMENT_STEP_PX`] pixels, widened to keep at most [`MAX_SEGMENT_POINTS`] points.
+/// Pixels beyond a stroke's half width that culling keeps (anti-aliasing reaches about a pixel
+/// past the geometry).
+pub const CULL_PAD_PX: f64 = 2.0;
+
+/// Distance in pixels from `p` to the image rectangle of `view` (0 inside; NaN for NaN).
+fn distance_to_image(view: &View, p: Point) -> f64 {
+    let dx = (-p.x).max(p.x - f64::from(view.width)).max(0.0);
+    let dy = (-p.y).max(p.y - f64::from(view.height)).max(0.0);
+    dx.hypot(dy)
+}
+
+/// Whether `segment` may show within `pad_px` pixels of the image (false only when it surely
+/// does not). A curve of length L from A to B lies in the ellipse with foci A and B and major
+/// axis L, hence in the disc of radius L/2 about the midpoint of AB; that disc is tested. Culling
+/// keeps a zoomed-in view from evaluating the whole scene at a quarter pixel.
+pub fn segment_may_show(segment: &LacSegment, view: &View, pad_px: f64) -> bool {
+    let mid = view.to_pixel(segment.start().midpoint(segment.end()));
+    let radius = 0.5 * segment.length() * view.pixels_per_unit + pad_px;
+    distance_to_image(view, mid) <= radius
+}
+
+/// Whether a cubic (in pixels) may show within `pad_px` pixels of the image: its control
+/// points' box (which holds the curve) is tested.
+fn cubic_may_show(bez: &CubicBez, view: &View, pad_px: f64) -> bool {
+    let (w, h) = (f64::from(view.width), f64::from(view.height));
+    let xs = [bez.p0.x, bez.p1.x, bez.p2.x, bez.p3.x];
+    let ys = [bez.p0.y, bez.p1.y, bez.p2.y, bez.p3.y];
+    let (x0, x1) = (
+        xs.iter().copied().fold(f64::INFINITY, f64::min),
+        xs.iter().copied().fold(f64::NEG_INFINITY, f64::max),
+    );
+    let (y0, y1) = (
+        ys.iter().copied().fold(f64::INFINITY, f64::min),
+        ys.iter().copied().fold(f64::NEG_INFINITY, f64::max),
+    );
+    x1 >= -pad_px && x0 <= w + pad_px && y1 >= -pad_px && y0 <= h + pad_px
+}
+
+/// Arc-length spacing (model units) at which a segment is evaluated in `view`.
+///
+/// A step h on a curve with |κ| ≤ κ_max (monotonic along an LAC, so κ_max is the larger end) that
+/// turns by less than π stays within the sagitta (1 − cos(κ_max·h/2))/κ_max ≤ κ_max·h²/8 of its
+/// chord. So h = √(8·e/κ_max) with e = [`SEGMENT_CHORD_ERROR_PX`] in model units, at most
+/// [`SEGMENT_MAX_TURNING`]/κ_max and [`SEGMENT_STEP_PX`] pixels, at least
+/// [`SEGMENT_MIN_STEP_PX`] pixels (the chord bound is given up only inside curls of radius below
+/// ~0.16 px), and widened to keep at most [`MAX_SEGMENT_POINTS`] points.
 pub fn segment_spacing(segment: &LacSegment, view: &View) -> f64 {
     let length = segment.length();
-    (SEGMENT_STEP_PX / view.pixels_per_unit).max(length / (MAX_SEGMENT_POINTS - 1) as f64)
+    let k = view.pixels_per_unit;
+    let kappa_max = segment.kappa0().abs().max(segment.kappa1().abs());
+    let mut h = SEGMENT_STEP_PX / k;
+    if kappa_max > 0.0 {
+        let e = SEGMENT_CHORD_ERROR_PX / k;
+        h = h
+            .min((8.0 * e / kappa_max).sqrt())
+            .min(SEGMENT_MAX_TURNING / kappa_max);
+    }
+    h.max(SEGMENT_MIN_STEP_PX / k)
+        .max(length / (MAX_SEGMENT_POINTS - 1) as f64)
 }
 
 /// The path of `segment` in pixels: an LAC is evaluated exactly ([`LacSegment::samples`] at
@@ -109,7 +179,11 @@ fn segments<'a>(scene: &'a Scene) -> impl Iterator<Item = (usize, usize, &'a Lac
 
 /// LAC segments coloured by α.
 pub fn draw_segments(pixmap: &mut Pixmap, scene: &Scene, view: &View, options: &RenderOptions) {
+    let pad = 0.5 * options.segment_width + CULL_PAD_PX;
     for (_, _, segment) in segments(scene) {
+        if !segment_may_show(segment, view, pad) {
+            continue;
+        }
         if let Some(path) = segment_path(segment, view) {
             let colour = segment_colour(segment.alpha());
             stroke(pixmap, &path, colour, options.segment_width);
@@ -127,23 +201,32 @@ pub fn draw_highlight(pixmap: &mut Pixmap, scene: &Scene, view: &View, options: 
         .get(c)
         .and_then(|curve| curve.chain.as_ref())
         .and_then(|chain| chain.segments.get(s));
-    if let Some(path) = found.and_then(|seg| segment_path(&seg.segment, view)) {
+    let pad = 0.5 * options.highlight_width + CULL_PAD_PX;
+    let shown = found.filter(|seg| segment_may_show(&seg.segment, view, pad));
+    if let Some(path) = shown.and_then(|seg| segment_path(&seg.segment, view)) {
         stroke(pixmap, &path, HIGHLIGHT, options.highlight_width);
     }
 }
 
 /// The B-splines as pale halos.
 pub fn draw_bspline(pixmap: &mut Pixmap, scene: &Scene, view: &View, options: &RenderOptions) {
+    let pad = 0.5 * options.bspline_width + CULL_PAD_PX;
     for curve in scene.curves {
-        let pieces = curve.bspline.curve.to_beziers().into_iter().map(|p| {
-            let b = p.bez;
-            CubicBez::new(
-                view.to_pixel(b.p0),
-                view.to_pixel(b.p1),
-                view.to_pixel(b.p2),
-                view.to_pixel(b.p3),
-            )
-        });
+        let pieces = curve
+            .bspline
+            .curve
+            .to_beziers()
+            .into_iter()
+            .map(|p| {
+                let b = p.bez;
+                CubicBez::new(
+                    view.to_pixel(b.p0),
+                    view.to_pixel(b.p1),
+                    view.to_pixel(b.p2),
+                    view.to_pixel(b.p3),
+                )
+            })
+            .filter(|b| cubic_may_show(b, view, pad));
         if let Some(path) = cubics(pieces) {
             stroke(pixmap, &path, BSPLINE, options.bspline_width);
         }
@@ -219,7 +302,16 @@ pub fn draw_splits(pixmap: &mut Pixmap, scene: &Scene, view: &View, options: &Re
 /// segments ([`COMB_SCALE_SAMPLES`] per segment) a tooth of [`COMB_HEIGHT_FRACTION`] of the
 /// diagonal of [`scene_bounds`](super::scene_bounds). `None` without segments or curvature.
 pub fn auto_comb_scale(scene: &Scene) -> Option<f64> {
-    let diagonal = super::scene_bounds(scene).map(|b| b.width().hypot(b.height()))?;
+    comb_scale_for(scene, scene_diagonal(scene)?)
+}
+
+/// The diagonal of [`scene_bounds`](super::scene_bounds).
+fn scene_diagonal(scene: &Scene) -> Option<f64> {
+    super::scene_bounds(scene).map(|b| b.width().hypot(b.height()))
+}
+
+/// [`auto_comb_scale`] for a scene of this diagonal.
+fn comb_scale_for(scene: &Scene, diagonal: f64) -> Option<f64> {
     let mut kappas: Vec<f64> = segments(scene)
         .flat_map(|(_, _, seg)| {
             (0..COMB_SCALE_SAMPLES).map(move |i| {
@@ -242,11 +334,19 @@ pub fn auto_comb_scale(scene: &Scene) -> Option<f64> {
 
 /// The curvature comb of each chain: a tooth every [`RenderOptions::comb_spacing`] pixels,
 /// from the curve along −κ·scale·n (n the left normal, so teeth stand on the convex side, away
-/// from the centre of curvature), and the envelope through the teeth's tips.
+/// from the centre of curvature), at most [`COMB_MAX_TOOTH_FRACTION`] of the scene's diagonal
+/// long, and the envelope through the teeth's tips.
 pub fn draw_comb(pixmap: &mut Pixmap, scene: &Scene, view: &View, options: &RenderOptions) {
-    let Some(scale) = options.comb_scale.or_else(|| auto_comb_scale(scene)) else {
+    let Some(diagonal) = scene_diagonal(scene) else {
         return;
     };
+    let Some(scale) = options
+        .comb_scale
+        .or_else(|| comb_scale_for(scene, diagonal))
+    else {
+        return;
+    };
+    let max_tooth = COMB_MAX_TOOTH_FRACTION * diagonal;
     let line = options.control_polygon_width.max(1.0);
     for curve in scene.curves {
         let Some(chain) = &curve.chain else {
@@ -256,12 +356,24 @@ pub fn draw_comb(pixmap: &mut Pixmap, scene: &Scene, view: &View, options: &Rend
         let mut teeth = tiny_skia::PathBuilder::new();
         for seg in &chain.segments {
             let segment = &seg.segment;
+            let tip = |s: crate::lac::LacSample| {
+                let (sin, cos) = s.theta.sin_cos();
+                let tooth = (s.kappa * scale).clamp(-max_tooth, max_tooth);
+                s.point - Vec2::new(-sin, cos) * tooth
+            };
+            let pad = max_tooth * view.pixels_per_unit + CULL_PAD_PX;
+            if !segment_may_show(segment, view, pad) {
+                // Off the image: keep the envelope's legs to the neighbours (they may cross the
+                // image), but break it across this segment.
+                envelope.push(view.to_pixel(tip(segment.sample(0.0))));
+                envelope.push(Point::new(f64::NAN, f64::NAN));
+                envelope.push(view.to_pixel(tip(segment.sample(segment.length()))));
+                continue;
+            }
             let spacing = (options.comb_spacing / view.pixels_per_unit)
                 .max(segment.length() / (MAX_SEGMENT_POINTS - 1) as f64);
             for s in segment.samples(spacing) {
-                let (sin, cos) = s.theta.sin_cos();
-                let tip = s.point - Vec2::new(-sin, cos) * (s.kappa * scale);
-                let (a, b) = (view.to_pixel(s.point), view.to_pixel(tip));
+                let (a, b) = (view.to_pixel(s.point), view.to_pixel(tip(s)));
                 if let (Some(a), Some(b)) =
                     (super::primitives::to_f32(a), super::primitives::to_f32(b))
                 {

@@ -15,10 +15,11 @@ use crate::stroke::{Stroke, Units};
 use kurbo::ParamCurveExtrema;
 use tiny_skia::Pixmap;
 
-/// Points per LAC segment that [`scene_bounds`] takes (evenly in arc length, ends included):
-/// enough for the box to hold the segment within a small fraction of its size (a segment of a
-/// chain turns by far less than a full circle).
-pub const BOUNDS_POINTS_PER_SEGMENT: usize = 33;
+/// Points per LAC segment that [`scene_bounds`] takes (evenly in arc length, ends included). A
+/// segment of a chain turns little (it follows one monotonic-curvature span of the B-spline,
+/// which the box already holds exactly) and lies within the fitting tolerance of it, so a few
+/// points suffice; the view's margin absorbs the rest.
+pub const BOUNDS_POINTS_PER_SEGMENT: usize = 9;
 
 /// The strokes and their fits, in the strokes' units.
 #[derive(Clone, Copy, Debug)]
