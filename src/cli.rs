@@ -268,7 +268,9 @@ pub fn run(cli: Cli, out: &mut dyn std::io::Write) -> Result<(), CliError> {
         #[cfg(feature = "app")]
         Command::App(args) => crate::app::run(crate::app::AppOptions {
             open: args.file,
-            recovery: args.recovery.or_else(crate::app::files::default_recovery_path),
+            recovery: args
+                .recovery
+                .or_else(crate::app::files::default_recovery_path),
             replay: args.replay,
         })
         .map_err(|e| CliError::Usage(e.to_string())),

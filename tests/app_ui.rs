@@ -99,7 +99,11 @@ fn a_drawn_stroke_is_fitted_and_its_segments_are_listed() {
     draw_arc(&mut harness);
     assert_eq!(harness.state().document().strokes().len(), 1);
     let stroke = &harness.state().document().strokes()[0].stroke;
-    assert!(stroke.samples.len() >= 40, "{} samples", stroke.samples.len());
+    assert!(
+        stroke.samples.len() >= 40,
+        "{} samples",
+        stroke.samples.len()
+    );
     assert!(stroke.samples.iter().all(|s| s.t.is_some()));
     wait_for_fits(&mut harness);
     let n = segment_count(&harness);
@@ -127,7 +131,11 @@ fn overlay_toggles_change_the_rendered_image() {
     let mut harness = harness(AppOptions::default());
     draw_arc(&mut harness);
     wait_for_fits(&mut harness);
-    let before = harness.state().canvas().rendered().map(|r| r.pixmap.clone());
+    let before = harness
+        .state()
+        .canvas()
+        .rendered()
+        .map(|r| r.pixmap.clone());
     let Some(before) = before else {
         panic!("nothing rendered");
     };
@@ -145,7 +153,12 @@ fn overlay_toggles_change_the_rendered_image() {
     assert_ne!(after.pixmap.data(), before.data());
     // With the drawing's layers off, only the legend and scale bar remain: fewer ink pixels.
     let ink = |p: &kansei::render::Pixmap| p.pixels().iter().filter(|c| c.red() < 200).count();
-    assert!(ink(&after.pixmap) < ink(&before), "{} vs {}", ink(&after.pixmap), ink(&before));
+    assert!(
+        ink(&after.pixmap) < ink(&before),
+        "{} vs {}",
+        ink(&after.pixmap),
+        ink(&before)
+    );
 }
 
 #[test]
@@ -215,14 +228,13 @@ fn a_finished_stroke_survives_in_the_recovery_file() {
 #[test]
 fn an_opened_fixture_is_fitted_and_replayed() {
     let fixture = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("fixtures/strokes");
-    let Some(path) = std::fs::read_dir(&fixture)
-        .ok()
-        .and_then(|d| {
-            let mut paths: Vec<PathBuf> = d.filter_map(Result::ok).map(|e| e.path()).collect();
-            paths.sort();
-            paths.into_iter().find(|p| p.extension().is_some_and(|e| e == "json"))
-        })
-    else {
+    let Some(path) = std::fs::read_dir(&fixture).ok().and_then(|d| {
+        let mut paths: Vec<PathBuf> = d.filter_map(Result::ok).map(|e| e.path()).collect();
+        paths.sort();
+        paths
+            .into_iter()
+            .find(|p| p.extension().is_some_and(|e| e == "json"))
+    }) else {
         panic!("no fixture in {}", fixture.display());
     };
     let mut harness = harness(AppOptions {
@@ -241,11 +253,26 @@ fn an_opened_fixture_is_fitted_and_replayed() {
         .iter()
         .map(|s| s.stroke.samples.len())
         .sum();
-    let shown: usize = harness.state().scene().strokes.iter().map(|s| s.samples.len()).sum();
-    assert!(shown < total, "{shown} of {total} samples shown at the replay's start");
+    let shown: usize = harness
+        .state()
+        .scene()
+        .strokes
+        .iter()
+        .map(|s| s.samples.len())
+        .sum();
+    assert!(
+        shown < total,
+        "{shown} of {total} samples shown at the replay's start"
+    );
     harness.get_by_label("Stop").click();
     wait_for_fits(&mut harness);
-    let shown: usize = harness.state().scene().strokes.iter().map(|s| s.samples.len()).sum();
+    let shown: usize = harness
+        .state()
+        .scene()
+        .strokes
+        .iter()
+        .map(|s| s.samples.len())
+        .sum();
     assert_eq!(shown, total);
     assert!(segment_count(&harness) >= 1);
 }
@@ -261,7 +288,10 @@ fn fixing_alpha_refits_the_selected_stroke_at_once() {
     harness.get_by_label("fixed").click();
     harness.step();
     let stroke = &harness.state().document().strokes()[0];
-    assert_ne!(stroke.revision, revision, "the settings change is a new revision");
+    assert_ne!(
+        stroke.revision, revision,
+        "the settings change is a new revision"
+    );
     // The range [−3, 3] becomes its middle, α = 0, for this stroke only.
     assert_eq!(stroke.settings.alpha, kansei::lac::AlphaChoice::Fixed(0.0));
     assert_eq!(
@@ -270,7 +300,11 @@ fn fixing_alpha_refits_the_selected_stroke_at_once() {
     );
     wait_for_fits(&mut harness);
     for (_, _, seg) in harness.state().scene().segments() {
-        assert!(seg.segment.alpha().is_none_or(|a| a == 0.0), "{:?}", seg.segment.alpha());
+        assert!(
+            seg.segment.alpha().is_none_or(|a| a == 0.0),
+            "{:?}",
+            seg.segment.alpha()
+        );
     }
     // Undo restores the range and refits again.
     harness.get_by_label("Undo").click();

@@ -144,7 +144,8 @@ impl Canvas {
 
         // Pan with the secondary or middle button, zoom with the wheel about the pointer.
         let mut view = view;
-        if response.dragged_by(PointerButton::Secondary) || response.dragged_by(PointerButton::Middle)
+        if response.dragged_by(PointerButton::Secondary)
+            || response.dragged_by(PointerButton::Middle)
         {
             let d = response.drag_delta();
             view = view.panned(Vec2::new(f64::from(d.x) * ppp, f64::from(d.y) * ppp));
@@ -256,7 +257,6 @@ impl Canvas {
         strokes.pop().map(|built| built.stroke)
     }
 
-    #[allow(clippy::too_many_arguments)]
     fn paint_texture(
         &mut self,
         ui: &Ui,
@@ -267,9 +267,10 @@ impl Canvas {
         options: &RenderOptions,
         view: View,
     ) {
-        let stale = self.rendered.as_ref().is_none_or(|r| {
-            r.view != view || r.scene_key != scene_key || r.options != *options
-        });
+        let stale = self
+            .rendered
+            .as_ref()
+            .is_none_or(|r| r.view != view || r.scene_key != scene_key || r.options != *options);
         if stale {
             match render(scene, &view, options) {
                 Ok(pixmap) => {

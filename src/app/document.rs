@@ -243,7 +243,11 @@ impl Document {
     }
 
     fn step_history(&mut self, undo: bool) -> bool {
-        let edit = if undo { self.undo.pop() } else { self.redo.pop() };
+        let edit = if undo {
+            self.undo.pop()
+        } else {
+            self.redo.pop()
+        };
         let Some(edit) = edit else {
             return false;
         };
@@ -279,7 +283,9 @@ impl Document {
     }
 
     fn index_of(&self, id: StrokeId) -> Result<usize, EditError> {
-        self.find(id).map(|(i, _)| i).ok_or(EditError::NoStroke(id.0))
+        self.find(id)
+            .map(|(i, _)| i)
+            .ok_or(EditError::NoStroke(id.0))
     }
 
     /// Applies an edit without touching the history; returns its inverse.
@@ -331,13 +337,7 @@ impl Document {
                 let stroke = &mut self.strokes[index];
                 let old = std::mem::replace(&mut stroke.settings, settings);
                 stroke.revision = revision;
-                Ok((
-                    Edit::SetSettings {
-                        id,
-                        settings: old,
-                    },
-                    Some(id),
-                ))
+                Ok((Edit::SetSettings { id, settings: old }, Some(id)))
             }
             Edit::Replace { units, mut strokes } => {
                 for s in &mut strokes {

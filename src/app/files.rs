@@ -95,7 +95,9 @@ pub fn export_png(
 ) -> Result<(), CliError> {
     let scene = Scene::new(&file.strokes, &output.curves, file.units);
     let Some(bounds) = scene_bounds(&scene) else {
-        return Err(CliError::Usage("nothing to export: the drawing is empty".into()));
+        return Err(CliError::Usage(
+            "nothing to export: the drawing is empty".into(),
+        ));
     };
     let view = View::fit(bounds, PNG_SIZE.0, PNG_SIZE.1, PNG_MARGIN_PX);
     let png = render_png(&scene, &view, options).map_err(|source| CliError::Render {
@@ -142,7 +144,10 @@ mod tests {
         let dir = temp_dir("broken");
         let path = dir.join(RECOVERY_FILE_NAME);
         let _ = std::fs::create_dir_all(&dir);
-        let _ = std::fs::write(&path, "{\"format\": \"kansei-stroke\", \"version\": 1, \"units\"");
+        let _ = std::fs::write(
+            &path,
+            "{\"format\": \"kansei-stroke\", \"version\": 1, \"units\"",
+        );
         let result = read_recovery(&path);
         assert!(
             matches!(&result, Err(e) if e.to_string().contains(RECOVERY_FILE_NAME)),

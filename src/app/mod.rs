@@ -337,7 +337,11 @@ impl KanseiApp {
     }
 
     fn scene_strokes(&self) -> Vec<crate::stroke::Stroke> {
-        self.doc.strokes().iter().map(|s| s.stroke.clone()).collect()
+        self.doc
+            .strokes()
+            .iter()
+            .map(|s| s.stroke.clone())
+            .collect()
     }
 
     fn output(&self) -> crate::pipeline::FitOutput {

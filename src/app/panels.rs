@@ -26,10 +26,16 @@ pub fn top_bar(ui: &mut Ui, doc: &Document, replaying: bool, commands: &mut Vec<
     ui.horizontal(|ui| {
         ui.strong("kansei");
         ui.separator();
-        if ui.add_enabled(doc.can_undo(), egui::Button::new("Undo")).clicked() {
+        if ui
+            .add_enabled(doc.can_undo(), egui::Button::new("Undo"))
+            .clicked()
+        {
             commands.push(Command::Undo);
         }
-        if ui.add_enabled(doc.can_redo(), egui::Button::new("Redo")).clicked() {
+        if ui
+            .add_enabled(doc.can_redo(), egui::Button::new("Redo"))
+            .clicked()
+        {
             commands.push(Command::Redo);
         }
         if ui.button("Fit view").clicked() {
@@ -136,8 +142,12 @@ pub fn settings(
             let mut a = a;
             ui.horizontal(|ui| {
                 let label = ui.label("α =");
-                ui.add(DragValue::new(&mut a).speed(0.05).range(-ALPHA_LIMIT..=ALPHA_LIMIT))
-                    .labelled_by(label.id);
+                ui.add(
+                    DragValue::new(&mut a)
+                        .speed(0.05)
+                        .range(-ALPHA_LIMIT..=ALPHA_LIMIT),
+                )
+                .labelled_by(label.id);
             });
             AlphaChoice::Fixed(a)
         }
@@ -146,11 +156,19 @@ pub fn settings(
             let (mut min, mut max) = (min, max);
             ui.horizontal(|ui| {
                 let from = ui.label("from");
-                ui.add(DragValue::new(&mut min).speed(0.05).range(-ALPHA_LIMIT..=max))
-                    .labelled_by(from.id);
+                ui.add(
+                    DragValue::new(&mut min)
+                        .speed(0.05)
+                        .range(-ALPHA_LIMIT..=max),
+                )
+                .labelled_by(from.id);
                 let to = ui.label("to");
-                ui.add(DragValue::new(&mut max).speed(0.05).range(min..=ALPHA_LIMIT))
-                    .labelled_by(to.id);
+                ui.add(
+                    DragValue::new(&mut max)
+                        .speed(0.05)
+                        .range(min..=ALPHA_LIMIT),
+                )
+                .labelled_by(to.id);
             });
             AlphaChoice::Range { min, max }
         }
@@ -220,19 +238,17 @@ pub fn files(ui: &mut Ui, path: &mut String, commands: &mut Vec<Command>) {
 /// Replay controls: start/stop and the speed.
 pub fn replay(ui: &mut Ui, speed: &mut f64, replay: Option<&Replay>, commands: &mut Vec<Command>) {
     ui.heading("Replay");
-    ui.horizontal(|ui| {
-        match replay {
-            None => {
-                if ui.button("Replay").clicked() {
-                    commands.push(Command::StartReplay);
-                }
+    ui.horizontal(|ui| match replay {
+        None => {
+            if ui.button("Replay").clicked() {
+                commands.push(Command::StartReplay);
             }
-            Some(r) => {
-                if ui.button("Stop").clicked() {
-                    commands.push(Command::StopReplay);
-                }
-                ui.label(format!("{:.1} / {:.1} s", r.clock(), r.duration()));
+        }
+        Some(r) => {
+            if ui.button("Stop").clicked() {
+                commands.push(Command::StopReplay);
             }
+            ui.label(format!("{:.1} / {:.1} s", r.clock(), r.duration()));
         }
     });
     ui.add(

@@ -181,7 +181,9 @@ mod tests {
             // θ1 − θ0 of the LAC, to the trapezoid rule's error for the LAC and to the
             // tangent error a 0.1 fit of a radius-40 arc allows for the B-spline.
             let turning = |v: &[[f64; 2]]| -> f64 {
-                v.windows(2).map(|w| 0.5 * (w[0][1] + w[1][1]) * (w[1][0] - w[0][0])).sum()
+                v.windows(2)
+                    .map(|w| 0.5 * (w[0][1] + w[1][1]) * (w[1][0] - w[0][0]))
+                    .sum()
             };
             let theta = segment.segment.theta1() - segment.segment.theta0();
             assert!((turning(&plots.lac_curvature) - theta).abs() < 1e-3);
@@ -192,7 +194,10 @@ mod tests {
                 let mut k: Vec<f64> = v.iter().map(|p| p[1].abs()).collect();
                 k.sort_by(f64::total_cmp);
                 let median = k[k.len() / 2];
-                assert!((median - 1.0 / 40.0).abs() < 0.1 / 40.0, "median κ = {median}");
+                assert!(
+                    (median - 1.0 / 40.0).abs() < 0.1 / 40.0,
+                    "median κ = {median}"
+                );
             }
             // The arc lengths agree to the tolerance's order.
             let (ls, bs) = (

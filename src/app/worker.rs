@@ -280,7 +280,10 @@ mod tests {
         assert!(fits.get(&doc.strokes()[0]).is_none());
         let jobs = fits.missing(&doc);
         assert_eq!(jobs.len(), 1);
-        assert!(matches!(fits.get(&doc.strokes()[0]), Some(FitState::Pending)));
+        assert!(matches!(
+            fits.get(&doc.strokes()[0]),
+            Some(FitState::Pending)
+        ));
         assert!(fits.accept(jobs[0].run(), &doc));
         assert!(matches!(fits.get(&doc.strokes()[0]), Some(FitState::Done(c)) if !c.is_empty()));
         assert!(!fits.any_pending(&doc));
