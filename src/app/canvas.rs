@@ -1,4 +1,4 @@
-//! The drawing surface: the scene rendered by [`render`](crate::render::render) into a texture,
+//! The drawing surface: the scene rendered by [`render`] into a texture,
 //! pan and zoom, and the pen (mouse, touch) turned into stroke samples.
 //!
 //! One transform, a render [`View`], maps model points to the canvas's physical pixels; a screen

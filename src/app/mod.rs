@@ -13,7 +13,7 @@
 //! ```
 //!
 //! The UI emits [`Command`]s; [`KanseiApp::execute`] applies them. The document changes only
-//! through [`Edit`](document::Edit)s, which keep the undo history; fits are computed off the UI
+//! through [`Edit`]s, which keep the undo history; fits are computed off the UI
 //! thread and drawn by the shared [`render`](crate::render) module.
 
 pub mod canvas;
