@@ -142,6 +142,8 @@ pub struct KanseiApp {
     /// The change count of the last save (nothing unsaved when equal to the document's).
     saved: u64,
     replay: Option<Replay>,
+    /// The selected segment's plot series, with the selection and scene key they were made for.
+    plots: Option<(Selection, (u64, u64, u64), plots::SegmentPlots)>,
 }
 
 impl std::fmt::Debug for KanseiApp {
@@ -184,6 +186,7 @@ impl KanseiApp {
             autosaved: 0,
             saved: 0,
             replay: None,
+            plots: None,
         };
         if let Some(path) = &options.recovery {
             match files::read_recovery(path) {
@@ -416,6 +419,24 @@ impl KanseiApp {
         if SceneData::key_of(&self.doc, &self.fits, self.replay.as_ref()) != self.scene.key {
             self.scene = SceneData::build(&self.doc, &self.fits, self.replay.as_ref());
         }
+        self.update_plots();
+    }
+
+    /// Recomputes the plot series when the selection or the scene has changed.
+    fn update_plots(&mut self) {
+        let wanted = self.view.selection.map(|s| (s, self.scene.key));
+        let have = self.plots.as_ref().map(|(s, key, _)| (*s, *key));
+        if wanted == have {
+            return;
+        }
+        self.plots = self.view.selection.and_then(|selection| {
+            let (fit, segment) = self.scene.selected(Some(selection))?;
+            Some((
+                selection,
+                self.scene.key,
+                plots::SegmentPlots::of(fit, segment),
+            ))
+        });
     }
 
     /// Takes in the fits that have arrived and advances the replay.
@@ -479,10 +500,9 @@ impl KanseiApp {
         egui::Panel::right("kansei-segments").show(ui, |ui| {
             panels::segment_table(ui, &self.scene, self.view.selection, &mut commands);
         });
-        if let Some((fit, segment)) = self.scene.selected(self.view.selection) {
-            let plots = plots::SegmentPlots::of(fit, segment);
+        if let Some((_, _, series)) = &self.plots {
             egui::Panel::bottom("kansei-plots").show(ui, |ui| {
-                plots::show(ui, &plots, PLOT_HEIGHT);
+                plots::show(ui, series, PLOT_HEIGHT);
             });
         }
         let options = self.render_options();
