@@ -51,7 +51,8 @@ cleanup() {
 trap cleanup EXIT
 sleep 1
 
-# No recovery file from a user's session: a temporary one.
+# No recovery file from a user's session, nor from an earlier run: a fresh temporary one.
+rm -f "$OUT/recovery.json"
 DISPLAY=$DISPLAY_NUM LIBGL_ALWAYS_SOFTWARE=1 WAYLAND_DISPLAY= \
   "$BIN" app "$FIXTURE" --recovery "$OUT/recovery.json" >"$OUT/app.log" 2>&1 &
 APP_PID=$!

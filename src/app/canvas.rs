@@ -69,6 +69,9 @@ struct LiveStroke {
 pub struct Canvas {
     view: Option<View>,
     fit_requested: bool,
+    /// The view was fitted and the user has not moved it since: refit when the canvas resizes
+    /// (the panels settle their widths over the first frames).
+    fitted: bool,
     live: Option<LiveStroke>,
     last_time: Option<f64>,
     texture: Option<TextureHandle>,
@@ -149,6 +152,7 @@ impl Canvas {
         {
             let d = response.drag_delta();
             view = view.panned(Vec2::new(f64::from(d.x) * ppp, f64::from(d.y) * ppp));
+            self.fitted = false;
         }
         if let Some(hover) = response.hover_pos() {
             let scroll = ui.input(|i| i.smooth_scroll_delta.y);
@@ -156,6 +160,7 @@ impl Canvas {
             let factor = (f64::from(scroll) * ZOOM_PER_SCROLL_POINT).exp() * f64::from(pinch);
             if factor != 1.0 && factor.is_finite() && factor > 0.0 {
                 view = view.zoomed(factor, to_pixel(hover));
+                self.fitted = false;
             }
         }
         self.view = Some(view);
@@ -193,13 +198,19 @@ impl Canvas {
                 }
             }
         };
+        let resized = self
+            .view
+            .is_some_and(|v| (v.width, v.height) != (width, height));
         let view = match self.view {
-            Some(view) if !self.fit_requested => View {
+            Some(view) if !self.fit_requested && !(self.fitted && resized) => View {
                 width,
                 height,
                 ..view
             },
-            _ => fitted(),
+            _ => {
+                self.fitted = true;
+                fitted()
+            }
         };
         self.fit_requested = false;
         view
@@ -229,6 +240,8 @@ impl Canvas {
                 push(&mut live, previous, to_model(origin));
             }
             self.live = Some(live);
+            // The view the user draws in stays put from now on.
+            self.fitted = false;
         }
         let live = self.live.as_mut()?;
         let moves: Vec<Pos2> = events

@@ -398,10 +398,11 @@ impl KanseiApp {
                 }
             }
         }
-        if self.doc.changes() != self.autosaved {
+        // While a recovered drawing is on offer its file is left alone; the drawing is written
+        // once the offer is taken or declined.
+        if self.doc.changes() != self.autosaved && self.recovered.is_none() {
             self.autosaved = self.doc.changes();
             if let Some(path) = &self.recovery_path
-                && self.recovered.is_none()
                 && let Err(e) = files::write_recovery(path, &self.doc.to_file())
             {
                 self.set_error(format!("autosave failed: {e}"));
