@@ -201,8 +201,9 @@ impl Canvas {
         let resized = self
             .view
             .is_some_and(|v| (v.width, v.height) != (width, height));
+        let refit = self.fit_requested || (self.fitted && resized);
         let view = match self.view {
-            Some(view) if !self.fit_requested && !(self.fitted && resized) => View {
+            Some(view) if !refit => View {
                 width,
                 height,
                 ..view
