@@ -505,6 +505,24 @@ fn translating_data_and_view_together_leaves_the_image_unchanged() {
 }
 
 #[test]
+fn scaled_options_multiply_every_pixel_size() {
+    let o = RenderOptions::default();
+    let s = o.scaled(2.0);
+    assert_eq!(s.segment_width, 2.0 * o.segment_width);
+    assert_eq!(s.bspline_width, 2.0 * o.bspline_width);
+    assert_eq!(s.control_polygon_width, 2.0 * o.control_polygon_width);
+    assert_eq!(s.sample_radius, 2.0 * o.sample_radius);
+    assert_eq!(s.marker_size, 2.0 * o.marker_size);
+    assert_eq!(s.comb_spacing, 2.0 * o.comb_spacing);
+    assert_eq!(s.highlight_width, 2.0 * o.highlight_width);
+    assert_eq!(s.text_size, 2.0 * o.text_size);
+    assert_eq!(
+        (s.overlays, s.comb_scale, s.background),
+        (o.overlays, o.comb_scale, o.background)
+    );
+}
+
+#[test]
 fn bad_views_and_options_are_typed_errors() {
     let file = common::fixture("google-ink-straight-line");
     let out = fitted(&file);
@@ -594,6 +612,26 @@ fn cli_writes_the_png_at_the_requested_size_and_names_the_file_on_error() {
         "{stderr}"
     );
     assert!(!bad.exists());
+    // Several inputs: a directory with one PNG per input stem.
+    let pngs = dir.join("pngs");
+    let jsons = dir.join("jsons");
+    let second = input.replace("google-ink-spring", "perfect-freehand-waves");
+    let out = std::process::Command::new(env!("CARGO_BIN_EXE_kansei"))
+        .args(["fit", &input, &second, "--size", "200x120", "--json"])
+        .arg(&jsons)
+        .arg("--png")
+        .arg(&pngs)
+        .output()
+        .expect("runs");
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    for stem in ["google-ink-spring", "perfect-freehand-waves"] {
+        let image = Pixmap::load_png(pngs.join(format!("{stem}.png"))).expect("a PNG");
+        assert_eq!((image.width(), image.height()), (200, 120));
+    }
     let _ = std::fs::remove_dir_all(&dir);
 }
 

@@ -23,8 +23,9 @@ pub const SEGMENT_STEP_PX: f64 = 2.0;
 /// pixel is invisible (anti-aliasing resolves about a sixteenth of a pixel's coverage).
 pub const SEGMENT_CHORD_ERROR_PX: f64 = 0.05;
 
-/// Shortest step between evaluated LAC points, pixels: where the curvature radius is below a few
-/// pixels the curl is a blob of a pixel or two whatever its shape, and finer steps only cost.
+/// Shortest step between evaluated LAC points, pixels: it binds only where the radius of
+/// curvature is under half a pixel, where the curl is a blob of a pixel or two whatever its
+/// shape and finer steps only cost.
 pub const SEGMENT_MIN_STEP_PX: f64 = 0.25;
 
 /// Largest turning of the LAC between two evaluated points, radians: keeps the sagitta bound
@@ -67,7 +68,7 @@ fn distance_to_image(view: &View, p: Point) -> f64 {
 /// Whether `segment` may show within `pad_px` pixels of the image (false only when it surely
 /// does not). A curve of length L from A to B lies in the ellipse with foci A and B and major
 /// axis L, hence in the disc of radius L/2 about the midpoint of AB; that disc is tested. Culling
-/// keeps a zoomed-in view from evaluating the whole scene at a quarter pixel.
+/// keeps a zoomed-in view from evaluating the whole scene at pixel-sized steps.
 pub fn segment_may_show(segment: &LacSegment, view: &View, pad_px: f64) -> bool {
     let mid = view.to_pixel(segment.start().midpoint(segment.end()));
     let radius = 0.5 * segment.length() * view.pixels_per_unit + pad_px;
@@ -97,8 +98,8 @@ fn cubic_may_show(bez: &CubicBez, view: &View, pad_px: f64) -> bool {
 /// turns by less than π stays within the sagitta (1 − cos(κ_max·h/2))/κ_max ≤ κ_max·h²/8 of its
 /// chord. So h = √(8·e/κ_max) with e = [`SEGMENT_CHORD_ERROR_PX`] in model units, at most
 /// [`SEGMENT_MAX_TURNING`]/κ_max and [`SEGMENT_STEP_PX`] pixels, at least
-/// [`SEGMENT_MIN_STEP_PX`] pixels (the chord bound is given up only inside curls of radius below
-/// ~0.16 px), and widened to keep at most [`MAX_SEGMENT_POINTS`] points.
+/// [`SEGMENT_MIN_STEP_PX`] pixels (the other bounds are given up only inside curls of radius
+/// below half a pixel), and widened to keep at most [`MAX_SEGMENT_POINTS`] points.
 pub fn segment_spacing(segment: &LacSegment, view: &View) -> f64 {
     let length = segment.length();
     let k = view.pixels_per_unit;
