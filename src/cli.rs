@@ -34,6 +34,24 @@ pub enum Command {
     Devices,
     /// Capture strokes from a tablet into kansei-stroke JSON, each stroke written as it ends.
     Capture(CaptureArgs),
+    /// The sketch app: draw, see the log-aesthetic chain appear, study its curvature.
+    #[cfg(feature = "app")]
+    App(AppArgs),
+}
+
+/// `kansei app`.
+#[cfg(feature = "app")]
+#[derive(Debug, Args)]
+pub struct AppArgs {
+    /// A file to open (any format `fit` reads).
+    pub file: Option<PathBuf>,
+    /// Replay the file's strokes at their recorded speed once it is open.
+    #[arg(long, requires = "file")]
+    pub replay: bool,
+    /// The recovery file, rewritten after every stroke
+    /// [default: $XDG_STATE_HOME/kansei/recovery.kansei-stroke.json].
+    #[arg(long)]
+    pub recovery: Option<PathBuf>,
 }
 
 /// `kansei capture`.
@@ -268,6 +286,15 @@ pub fn run(cli: Cli, out: &mut dyn std::io::Write) -> Result<(), CliError> {
         }
         Command::Devices => devices(out),
         Command::Capture(args) => capture(&args, out),
+        #[cfg(feature = "app")]
+        Command::App(args) => crate::app::run(crate::app::AppOptions {
+            open: args.file,
+            recovery: args
+                .recovery
+                .or_else(crate::app::files::default_recovery_path),
+            replay: args.replay,
+        })
+        .map_err(|e| CliError::Usage(e.to_string())),
     }
 }
 

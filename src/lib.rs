@@ -14,7 +14,8 @@
 //! 6. [`export`]: `kansei-curve` JSON (with JSON Schemas), SVG and DXF within a stated error
 //!    of the exact curves; [`render`]: raster images (PNG, the app's canvas) drawn with tiny-skia.
 //!
-//! [`pipeline`] composes the stages; [`cli`] is the command line.
+//! [`pipeline`] composes the stages; [`cli`] is the command line; `app` (feature `app`) is the
+//! sketch app, `kansei app`: draw, watch the chain appear, study its curvature.
 //!
 //! ```
 //! use kansei::pipeline::{PipelineOptions, fit_file};
@@ -32,6 +33,8 @@
 //! assert!(out.curves[0].bspline.max_deviation <= 0.1);
 //! ```
 
+#[cfg(feature = "app")]
+pub mod app;
 pub mod bspline;
 pub mod capture;
 pub mod chain;

@@ -1,0 +1,599 @@
+//! The sketch app (`kansei app`, feature `app`): draw with a pen, see the log-aesthetic chain
+//! appear, study its curvature.
+//!
+//! ```text
+//! document.rs  Document: strokes, their fit settings, undo/redo through Edit (no egui)
+//! worker.rs    FitWorker: the pipeline on a background thread; Fits keyed by stroke revision
+//! scene.rs     SceneData: the document and its fits as the renderer takes them; Selection
+//! replay.rs    Replay: a drawing's strokes at their recorded speed
+//! files.rs     open (any format the CLI reads), save, export, the recovery file
+//! canvas.rs    Canvas: the render texture, pan/zoom, pointer → samples
+//! panels.rs    the side panels: fit settings, overlays, files, replay, the segment table
+//! plots.rs     the selected segment's plots (egui_plot)
+//! ```
+//!
+//! The UI emits [`Command`]s; [`KanseiApp::execute`] applies them. The document changes only
+//! through [`Edit`]s, which keep the undo history; fits are computed off the UI
+//! thread and drawn by the shared [`render`](crate::render) module.
+
+pub mod canvas;
+pub mod document;
+pub mod files;
+pub mod panels;
+pub mod plots;
+pub mod replay;
+pub mod scene;
+pub mod worker;
+
+use std::path::{Path, PathBuf};
+
+use eframe::egui;
+use egui::{Key, KeyboardShortcut, Modifiers};
+
+use crate::render::{Overlays, RenderOptions};
+use canvas::Canvas;
+use document::{Document, Edit, FitSettings, StrokeId};
+use replay::Replay;
+use scene::{SceneData, Selection};
+use worker::{FitState, FitWorker, Fits};
+
+/// Height of the plots under the canvas, points.
+pub const PLOT_HEIGHT: f32 = 180.0;
+
+/// Replay speed when the app starts (recorded speed).
+pub const DEFAULT_REPLAY_SPEED: f64 = 1.0;
+
+/// How the app starts.
+#[derive(Clone, Debug, Default)]
+pub struct AppOptions {
+    /// A file to open.
+    pub open: Option<PathBuf>,
+    /// Where the recovery file lives (`None`: no autosave).
+    pub recovery: Option<PathBuf>,
+    /// Start replaying the opened file's strokes.
+    pub replay: bool,
+}
+
+/// Everything the UI can ask for.
+#[derive(Clone, Debug, PartialEq)]
+pub enum Command {
+    /// Change the document.
+    Edit(Edit),
+    /// Undo the last edit.
+    Undo,
+    /// Redo the last undone edit.
+    Redo,
+    /// Open a file, replacing the drawing (undoable).
+    Open(PathBuf),
+    /// Save the strokes as `kansei-stroke`.
+    Save(PathBuf),
+    /// Export the fits as `kansei-curve` JSON.
+    ExportJson(PathBuf),
+    /// Export the SVG.
+    ExportSvg(PathBuf),
+    /// Export the DXF.
+    ExportDxf(PathBuf),
+    /// Export a PNG through the render module.
+    ExportPng(PathBuf),
+    /// Select a segment (or nothing).
+    Select(Option<Selection>),
+    /// Settings for the selected stroke (refit at once) or, with none selected, for new strokes.
+    SetSettings(FitSettings),
+    /// Fit the view to the drawing.
+    FitView,
+    /// Replay the strokes at their recorded speed.
+    StartReplay,
+    /// Stop the replay.
+    StopReplay,
+    /// Take the recovered drawing.
+    Recover,
+    /// Decline the recovered drawing (the recovery file is removed).
+    DiscardRecovery,
+}
+
+/// A line of feedback under the canvas.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Status {
+    /// What to say.
+    pub text: String,
+    /// Whether it is an error.
+    pub error: bool,
+}
+
+/// The state the panels edit that is not the document: what is shown and where files go.
+#[derive(Clone, Debug, PartialEq)]
+pub struct ViewState {
+    /// The overlays drawn.
+    pub overlays: Overlays,
+    /// The selected segment.
+    pub selection: Option<Selection>,
+    /// Settings for new strokes.
+    pub new_stroke_settings: FitSettings,
+    /// The path in the file panel.
+    pub path: String,
+    /// Replay speed factor.
+    pub replay_speed: f64,
+}
+
+impl Default for ViewState {
+    fn default() -> Self {
+        ViewState {
+            overlays: Overlays::default(),
+            selection: None,
+            new_stroke_settings: FitSettings::default(),
+            path: String::new(),
+            replay_speed: DEFAULT_REPLAY_SPEED,
+        }
+    }
+}
+
+/// The app: the document, its fits and the UI's state.
+pub struct KanseiApp {
+    doc: Document,
+    fits: Fits,
+    worker: Option<FitWorker>,
+    /// What the panels edit.
+    pub view: ViewState,
+    canvas: Canvas,
+    scene: SceneData,
+    status: Option<Status>,
+    recovery_path: Option<PathBuf>,
+    recovered: Option<crate::stroke::StrokeFile>,
+    /// The last change count written to the recovery file.
+    autosaved: u64,
+    /// The change count of the last save (nothing unsaved when equal to the document's).
+    saved: u64,
+    replay: Option<Replay>,
+    /// The selected segment's plot series, with the selection and scene key they were made for.
+    plots: Option<(Selection, (u64, u64, u64), plots::SegmentPlots)>,
+}
+
+impl std::fmt::Debug for KanseiApp {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("KanseiApp")
+            .field("strokes", &self.doc.strokes().len())
+            .field("view", &self.view)
+            .finish_non_exhaustive()
+    }
+}
+
+impl KanseiApp {
+    /// A new app; `ctx` is woken when a fit arrives.
+    pub fn new(ctx: &egui::Context, options: AppOptions) -> Self {
+        let wake_ctx = ctx.clone();
+        let mut status = None;
+        let worker = match FitWorker::spawn(Box::new(move || wake_ctx.request_repaint())) {
+            Ok(worker) => Some(worker),
+            Err(e) => {
+                status = Some(Status {
+                    text: format!("cannot start the fitting thread: {e}"),
+                    error: true,
+                });
+                None
+            }
+        };
+        let doc = Document::default();
+        let fits = Fits::default();
+        let scene = SceneData::build(&doc, &fits, None);
+        let mut app = KanseiApp {
+            doc,
+            fits,
+            worker,
+            view: ViewState::default(),
+            canvas: Canvas::default(),
+            scene,
+            status,
+            recovery_path: options.recovery.clone(),
+            recovered: None,
+            autosaved: 0,
+            saved: 0,
+            replay: None,
+            plots: None,
+        };
+        if let Some(path) = &options.recovery {
+            match files::read_recovery(path) {
+                Ok(file) => app.recovered = file,
+                Err(e) => app.set_error(format!("recovery file unreadable: {e}")),
+            }
+        }
+        if let Some(path) = options.open {
+            app.view.path = path.display().to_string();
+            app.execute(Command::Open(path));
+            if options.replay {
+                app.execute(Command::StartReplay);
+            }
+        }
+        app
+    }
+
+    /// The document.
+    pub fn document(&self) -> &Document {
+        &self.doc
+    }
+
+    /// The fits.
+    pub fn fits(&self) -> &Fits {
+        &self.fits
+    }
+
+    /// The scene the canvas draws.
+    pub fn scene(&self) -> &SceneData {
+        &self.scene
+    }
+
+    /// The canvas (its last render, its view).
+    pub fn canvas(&self) -> &Canvas {
+        &self.canvas
+    }
+
+    /// The feedback line.
+    pub fn status(&self) -> Option<&Status> {
+        self.status.as_ref()
+    }
+
+    /// Whether a recovered drawing is on offer.
+    pub fn recovery_offered(&self) -> bool {
+        self.recovered.is_some()
+    }
+
+    /// Whether every stroke's fit is back.
+    pub fn fits_settled(&self) -> bool {
+        !self.fits.any_pending(&self.doc)
+    }
+
+    /// The options the canvas renders with.
+    pub fn render_options(&self) -> RenderOptions {
+        RenderOptions {
+            highlight: self.scene.highlight(self.view.selection),
+            ..RenderOptions::with_overlays(self.view.overlays)
+        }
+    }
+
+    fn set_error(&mut self, text: String) {
+        self.status = Some(Status { text, error: true });
+    }
+
+    fn set_info(&mut self, text: String) {
+        self.status = Some(Status { text, error: false });
+    }
+
+    /// The settings the panel shows: the selected stroke's, else those for new strokes.
+    pub fn current_settings(&self) -> FitSettings {
+        self.selected_stroke()
+            .and_then(|id| self.doc.find(id))
+            .map_or(self.view.new_stroke_settings, |(_, s)| s.settings)
+    }
+
+    fn selected_stroke(&self) -> Option<StrokeId> {
+        self.view.selection.map(|s| s.stroke)
+    }
+
+    /// Applies one command.
+    pub fn execute(&mut self, command: Command) {
+        match command {
+            Command::Edit(edit) => {
+                if let Err(e) = self.doc.apply(edit) {
+                    self.set_error(e.to_string());
+                }
+            }
+            Command::Undo => {
+                self.doc.undo();
+            }
+            Command::Redo => {
+                self.doc.redo();
+            }
+            Command::Open(path) => self.open(&path),
+            Command::Save(path) => match files::save(&path, &self.doc.to_file()) {
+                Ok(()) => {
+                    self.saved = self.doc.changes();
+                    self.set_info(format!("saved {}", path.display()));
+                }
+                Err(e) => self.set_error(e.to_string()),
+            },
+            Command::ExportJson(path) => {
+                let result = files::export_json(&path, &self.output());
+                self.report_export(&path, result);
+            }
+            Command::ExportSvg(path) => {
+                let result = files::export_svg(&path, &self.doc.to_file(), &self.output());
+                self.report_export(&path, result);
+            }
+            Command::ExportDxf(path) => {
+                let result = files::export_dxf(&path, &self.output());
+                self.report_export(&path, result);
+            }
+            Command::ExportPng(path) => {
+                let result = files::export_png(
+                    &path,
+                    &self.doc.to_file(),
+                    &self.output(),
+                    &RenderOptions::with_overlays(self.view.overlays),
+                );
+                self.report_export(&path, result);
+            }
+            Command::Select(selection) => self.view.selection = selection,
+            Command::SetSettings(settings) => match self.selected_stroke() {
+                Some(id) => {
+                    if let Err(e) = self.doc.apply(Edit::SetSettings { id, settings }) {
+                        self.set_error(e.to_string());
+                    }
+                }
+                None => self.view.new_stroke_settings = settings,
+            },
+            Command::FitView => self.canvas.request_fit(),
+            Command::StartReplay => {
+                self.replay = Some(Replay::new(&self.scene_strokes()));
+            }
+            Command::StopReplay => self.replay = None,
+            Command::Recover => {
+                if let Some(file) = self.recovered.take() {
+                    let edit = self.doc.replace_with(file, self.view.new_stroke_settings);
+                    self.execute(Command::Edit(edit));
+                    self.canvas.request_fit();
+                    self.set_info("recovered the previous drawing".into());
+                }
+            }
+            Command::DiscardRecovery => {
+                self.recovered = None;
+                if let Some(path) = self.recovery_path.clone()
+                    && let Err(e) = files::discard_recovery(&path)
+                {
+                    self.set_error(e.to_string());
+                }
+            }
+        }
+        self.after_change();
+    }
+
+    fn scene_strokes(&self) -> Vec<crate::stroke::Stroke> {
+        self.doc
+            .strokes()
+            .iter()
+            .map(|s| s.stroke.clone())
+            .collect()
+    }
+
+    fn output(&self) -> crate::pipeline::FitOutput {
+        let settings = self.view.new_stroke_settings;
+        let tolerance = settings
+            .tolerance
+            .unwrap_or(self.doc.units().default_tolerance());
+        // Rebuilt without a replay cut: exports hold every finished fit.
+        SceneData::build(&self.doc, &self.fits, None).output(tolerance)
+    }
+
+    fn report_export(&mut self, path: &Path, result: Result<(), crate::cli::CliError>) {
+        match result {
+            Ok(()) => self.set_info(format!("wrote {}", path.display())),
+            Err(e) => self.set_error(e.to_string()),
+        }
+    }
+
+    /// Opens a file; on failure the drawing is untouched and the status says why.
+    fn open(&mut self, path: &Path) {
+        match files::open(path) {
+            Ok(file) => {
+                let n = file.strokes.len();
+                let edit = self.doc.replace_with(file, self.view.new_stroke_settings);
+                match self.doc.apply(edit) {
+                    Ok(_) => {
+                        self.view.selection = None;
+                        self.replay = None;
+                        self.saved = self.doc.changes();
+                        self.canvas.request_fit();
+                        self.set_info(format!("opened {} ({n} strokes)", path.display()));
+                    }
+                    Err(e) => self.set_error(format!("{}: {e}", path.display())),
+                }
+            }
+            Err(e) => self.set_error(format!("cannot open: {e}")),
+        }
+    }
+
+    /// After any command or fit: queue missing fits, autosave, drop a selection that is gone,
+    /// rebuild the scene if its inputs changed.
+    fn after_change(&mut self) {
+        let jobs = self.fits.missing(&self.doc);
+        match &self.worker {
+            Some(worker) => jobs.into_iter().for_each(|job| worker.send(job)),
+            // No thread could be started: fit here (the UI waits, but still works).
+            None => {
+                for job in jobs {
+                    let result = job.run();
+                    self.fits.accept(result, &self.doc);
+                }
+            }
+        }
+        // While a recovered drawing is on offer its file is left alone; the drawing is written
+        // once the offer is taken or declined.
+        if self.doc.changes() != self.autosaved && self.recovered.is_none() {
+            self.autosaved = self.doc.changes();
+            if let Some(path) = &self.recovery_path
+                && let Err(e) = files::write_recovery(path, &self.doc.to_file())
+            {
+                self.set_error(format!("autosave failed: {e}"));
+            }
+        }
+        if self.view.selection.is_some() && self.scene.highlight(self.view.selection).is_none() {
+            // Keep a selection whose stroke is still being refitted; drop one that is gone.
+            let alive = self
+                .selected_stroke()
+                .is_some_and(|id| self.doc.find(id).is_some());
+            if !alive {
+                self.view.selection = None;
+            }
+        }
+        if SceneData::key_of(&self.doc, &self.fits, self.replay.as_ref()) != self.scene.key {
+            self.scene = SceneData::build(&self.doc, &self.fits, self.replay.as_ref());
+        }
+        self.update_plots();
+    }
+
+    /// Recomputes the plot series when the selection or the scene has changed.
+    fn update_plots(&mut self) {
+        let wanted = self.view.selection.map(|s| (s, self.scene.key));
+        let have = self.plots.as_ref().map(|(s, key, _)| (*s, *key));
+        if wanted == have {
+            return;
+        }
+        self.plots = self.view.selection.and_then(|selection| {
+            let (fit, segment) = self.scene.selected(Some(selection))?;
+            Some((
+                selection,
+                self.scene.key,
+                plots::SegmentPlots::of(fit, segment),
+            ))
+        });
+    }
+
+    /// Takes in the fits that have arrived and advances the replay.
+    fn logic(&mut self, ctx: &egui::Context) {
+        if let Some(worker) = &self.worker {
+            for result in worker.poll() {
+                self.fits.accept(result, &self.doc);
+            }
+        }
+        if let Some(replay) = &mut self.replay {
+            let dt = ctx.input(|i| f64::from(i.stable_dt));
+            replay.advance(dt, self.view.replay_speed);
+            if replay.is_done() {
+                self.replay = None;
+            } else {
+                ctx.request_repaint();
+            }
+        }
+        self.after_change();
+    }
+
+    /// The whole UI, inside `ui` (the eframe root, or a test harness).
+    pub fn ui(&mut self, ui: &mut egui::Ui) {
+        self.logic(ui.ctx());
+        let mut commands = Vec::new();
+        shortcuts(ui, &mut commands);
+
+        egui::Panel::top("kansei-top").show(ui, |ui| {
+            panels::top_bar(ui, &self.doc, self.replay.is_some(), &mut commands);
+        });
+        egui::Panel::bottom("kansei-status").show(ui, |ui| {
+            panels::status_line(ui, self.status.as_ref(), &self.doc, &self.fits);
+        });
+        egui::Panel::left("kansei-settings").show(ui, |ui| {
+            egui::ScrollArea::vertical().show(ui, |ui| {
+                if let Some(file) = &self.recovered {
+                    panels::recovery_offer(ui, file, &mut commands);
+                    ui.separator();
+                }
+                let editing = self.selected_stroke().is_some();
+                panels::settings(
+                    ui,
+                    self.current_settings(),
+                    self.doc.units(),
+                    editing,
+                    &mut commands,
+                );
+                ui.separator();
+                panels::overlays(ui, &mut self.view.overlays);
+                ui.separator();
+                panels::files(ui, &mut self.view.path, &mut commands);
+                ui.separator();
+                panels::replay(
+                    ui,
+                    &mut self.view.replay_speed,
+                    self.replay.as_ref(),
+                    &mut commands,
+                );
+            });
+        });
+        egui::Panel::right("kansei-segments").show(ui, |ui| {
+            panels::segment_table(ui, &self.scene, self.view.selection, &mut commands);
+        });
+        if let Some((_, _, series)) = &self.plots {
+            egui::Panel::bottom("kansei-plots").show(ui, |ui| {
+                plots::show(ui, series, PLOT_HEIGHT);
+            });
+        }
+        let options = self.render_options();
+        egui::CentralPanel::default().show(ui, |ui| {
+            let scene = self.scene.scene();
+            let key = self.scene.hash_key();
+            if let Some(stroke) = self.canvas.ui(ui, &scene, key, &options) {
+                commands.push(Command::Edit(Edit::AddStroke {
+                    stroke,
+                    settings: self.view.new_stroke_settings,
+                }));
+            }
+        });
+        for command in commands {
+            self.execute(command);
+        }
+        if self.canvas.is_drawing() || !self.fits_settled() {
+            ui.ctx().request_repaint();
+        }
+    }
+
+    /// Called when the window closes: a drawing with nothing unsaved needs no recovery.
+    pub fn on_exit(&mut self) {
+        if self.doc.changes() == self.saved
+            && self.recovered.is_none()
+            && let Some(path) = &self.recovery_path
+        {
+            let _ = files::discard_recovery(path);
+        }
+    }
+}
+
+/// Undo: Ctrl+Z; redo: Ctrl+Shift+Z or Ctrl+Y.
+fn shortcuts(ui: &mut egui::Ui, commands: &mut Vec<Command>) {
+    let redo = [
+        KeyboardShortcut::new(Modifiers::COMMAND | Modifiers::SHIFT, Key::Z),
+        KeyboardShortcut::new(Modifiers::COMMAND, Key::Y),
+    ];
+    let undo = KeyboardShortcut::new(Modifiers::COMMAND, Key::Z);
+    ui.input_mut(|i| {
+        // Redo first: Ctrl+Shift+Z also matches a shortcut test for Ctrl+Z with Shift ignored.
+        if redo.iter().any(|s| i.consume_shortcut(s)) {
+            commands.push(Command::Redo);
+        } else if i.consume_shortcut(&undo) {
+            commands.push(Command::Undo);
+        }
+    });
+}
+
+impl eframe::App for KanseiApp {
+    fn ui(&mut self, ui: &mut egui::Ui, _frame: &mut eframe::Frame) {
+        KanseiApp::ui(self, ui);
+    }
+
+    fn on_exit(&mut self, _gl: Option<&eframe::glow::Context>) {
+        KanseiApp::on_exit(self);
+    }
+}
+
+/// Why the app could not run.
+#[derive(Debug, thiserror::Error)]
+pub enum AppError {
+    /// The window could not be opened (no display, no OpenGL).
+    #[error("cannot open the window: {0}")]
+    Window(String),
+}
+
+/// Opens the window and runs until it is closed.
+pub fn run(options: AppOptions) -> Result<(), AppError> {
+    let native = eframe::NativeOptions {
+        viewport: egui::ViewportBuilder::default()
+            .with_title("kansei")
+            .with_inner_size([1280.0, 800.0]),
+        ..eframe::NativeOptions::default()
+    };
+    eframe::run_native(
+        "kansei",
+        native,
+        Box::new(|cc| Ok(Box::new(KanseiApp::new(&cc.egui_ctx, options)))),
+    )
+    .map_err(|e| AppError::Window(e.to_string()))
+}
+
+/// Whether `state` is a finished fit (for tests and the status line).
+pub fn is_done(state: Option<&FitState>) -> bool {
+    matches!(state, Some(FitState::Done(_)))
+}

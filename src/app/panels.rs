@@ -1,0 +1,301 @@
+//! The panels around the canvas. Each shows state and pushes [`Command`]s; none computes or
+//! changes the document itself (the overlay toggles are view state and are edited in place).
+
+use std::path::PathBuf;
+
+use eframe::egui;
+use egui::{DragValue, RichText, ScrollArea, Ui};
+
+use super::Command;
+use super::document::{Document, FitSettings};
+use super::replay::{Replay, SPEED_RANGE};
+use super::scene::{SceneData, Selection};
+use super::worker::{FitState, Fits};
+use crate::lac::AlphaChoice;
+use crate::render::Overlays;
+use crate::stroke::{StrokeFile, Units};
+
+/// Largest α the panel offers: past the range where LACs are used (−3..3) with room to spare.
+pub const ALPHA_LIMIT: f64 = 10.0;
+
+/// Corner angles the panel offers, degrees: 5 (almost every turn is a corner) to 180 (none).
+pub const CORNER_ANGLE_RANGE: (f64, f64) = (5.0, 180.0);
+
+/// The menu row: undo, redo, fit view.
+pub fn top_bar(ui: &mut Ui, doc: &Document, replaying: bool, commands: &mut Vec<Command>) {
+    ui.horizontal(|ui| {
+        ui.strong("kansei");
+        ui.separator();
+        if ui
+            .add_enabled(doc.can_undo(), egui::Button::new("Undo"))
+            .clicked()
+        {
+            commands.push(Command::Undo);
+        }
+        if ui
+            .add_enabled(doc.can_redo(), egui::Button::new("Redo"))
+            .clicked()
+        {
+            commands.push(Command::Redo);
+        }
+        if ui.button("Fit view").clicked() {
+            commands.push(Command::FitView);
+        }
+        if replaying {
+            ui.label("replaying…");
+        }
+    });
+}
+
+/// The feedback line: the last message, stroke and fit counts.
+pub fn status_line(ui: &mut Ui, status: Option<&super::Status>, doc: &Document, fits: &Fits) {
+    ui.horizontal(|ui| {
+        let pending = doc
+            .strokes()
+            .iter()
+            .filter(|s| matches!(fits.get(s), None | Some(FitState::Pending)))
+            .count();
+        let failed: Vec<String> = doc
+            .strokes()
+            .iter()
+            .enumerate()
+            .filter_map(|(i, s)| match fits.get(s) {
+                Some(FitState::Failed(why)) => Some(format!("stroke {}: {why}", i + 1)),
+                _ => None,
+            })
+            .collect();
+        ui.label(format!(
+            "{} strokes ({}), {pending} fitting",
+            doc.strokes().len(),
+            doc.units().name()
+        ));
+        for why in failed.iter().take(1) {
+            ui.separator();
+            ui.colored_label(ui.visuals().warn_fg_color, why);
+        }
+        if let Some(status) = status {
+            ui.separator();
+            if status.error {
+                ui.colored_label(ui.visuals().error_fg_color, &status.text);
+            } else {
+                ui.label(&status.text);
+            }
+        }
+    });
+}
+
+/// The offer of a recovered drawing.
+pub fn recovery_offer(ui: &mut Ui, file: &StrokeFile, commands: &mut Vec<Command>) {
+    ui.label(RichText::new("Unsaved drawing from last time").strong());
+    ui.label(format!("{} strokes", file.strokes.len()));
+    ui.horizontal(|ui| {
+        if ui.button("Recover").clicked() {
+            commands.push(Command::Recover);
+        }
+        if ui.button("Discard").clicked() {
+            commands.push(Command::DiscardRecovery);
+        }
+    });
+}
+
+/// Tolerance, α (range or fixed) and corner angle. With a stroke selected they are that
+/// stroke's and every change refits it at once; otherwise they are those of new strokes.
+pub fn settings(
+    ui: &mut Ui,
+    current: FitSettings,
+    units: Units,
+    editing_selected: bool,
+    commands: &mut Vec<Command>,
+) {
+    ui.heading("Fit");
+    ui.label(if editing_selected {
+        "selected stroke"
+    } else {
+        "new strokes"
+    });
+    let mut s = current;
+    let mut tolerance = s.tolerance.unwrap_or(units.default_tolerance());
+    ui.horizontal(|ui| {
+        let label = ui.label("tolerance");
+        let step = units.default_tolerance() / 10.0;
+        ui.add(
+            DragValue::new(&mut tolerance)
+                .speed(step)
+                .range(step..=f64::MAX)
+                .suffix(format!(" {}", units.name())),
+        )
+        .labelled_by(label.id);
+    });
+    if tolerance != s.tolerance.unwrap_or(units.default_tolerance()) {
+        s.tolerance = Some(tolerance);
+    }
+
+    let mut fixed = matches!(s.alpha, AlphaChoice::Fixed(_));
+    ui.horizontal(|ui| {
+        ui.label("α");
+        ui.radio_value(&mut fixed, false, "range");
+        ui.radio_value(&mut fixed, true, "fixed");
+    });
+    let middle = s.alpha.middle();
+    s.alpha = match (fixed, s.alpha) {
+        (true, AlphaChoice::Fixed(a)) => {
+            let mut a = a;
+            ui.horizontal(|ui| {
+                let label = ui.label("α =");
+                ui.add(
+                    DragValue::new(&mut a)
+                        .speed(0.05)
+                        .range(-ALPHA_LIMIT..=ALPHA_LIMIT),
+                )
+                .labelled_by(label.id);
+            });
+            AlphaChoice::Fixed(a)
+        }
+        (true, AlphaChoice::Range { .. }) => AlphaChoice::Fixed(middle),
+        (false, AlphaChoice::Range { min, max }) => {
+            let (mut min, mut max) = (min, max);
+            ui.horizontal(|ui| {
+                let from = ui.label("from");
+                ui.add(
+                    DragValue::new(&mut min)
+                        .speed(0.05)
+                        .range(-ALPHA_LIMIT..=max),
+                )
+                .labelled_by(from.id);
+                let to = ui.label("to");
+                ui.add(
+                    DragValue::new(&mut max)
+                        .speed(0.05)
+                        .range(min..=ALPHA_LIMIT),
+                )
+                .labelled_by(to.id);
+            });
+            AlphaChoice::Range { min, max }
+        }
+        // Back to a range: the default one, widened to hold the fixed α.
+        (false, AlphaChoice::Fixed(a)) => match AlphaChoice::default() {
+            AlphaChoice::Range { min, max } => AlphaChoice::Range {
+                min: min.min(a),
+                max: max.max(a),
+            },
+            fixed => fixed,
+        },
+    };
+    ui.horizontal(|ui| {
+        let label = ui.label("corner angle");
+        ui.add(
+            DragValue::new(&mut s.corner_angle)
+                .speed(1.0)
+                .range(CORNER_ANGLE_RANGE.0..=CORNER_ANGLE_RANGE.1)
+                .suffix("°"),
+        )
+        .labelled_by(label.id);
+    });
+    if ui.button("defaults").clicked() {
+        s = FitSettings::default();
+    }
+    if s != current && s.is_valid() {
+        commands.push(Command::SetSettings(s));
+    }
+}
+
+/// The overlay toggles (view state, edited in place).
+pub fn overlays(ui: &mut Ui, o: &mut Overlays) {
+    ui.heading("Show");
+    ui.checkbox(&mut o.samples, "samples");
+    ui.checkbox(&mut o.bspline, "B-spline");
+    ui.checkbox(&mut o.control_polygon, "control polygon");
+    ui.checkbox(&mut o.splits, "split points");
+    ui.checkbox(&mut o.segments, "LAC segments");
+    ui.checkbox(&mut o.comb, "curvature comb");
+    ui.checkbox(&mut o.legend, "α legend");
+    ui.checkbox(&mut o.scale_bar, "scale bar");
+}
+
+/// A path field with open, save and export buttons.
+pub fn files(ui: &mut Ui, path: &mut String, commands: &mut Vec<Command>) {
+    ui.heading("File");
+    ui.add(egui::TextEdit::singleline(path).hint_text("path"));
+    let target = || PathBuf::from(path.trim());
+    let has_path = !path.trim().is_empty();
+    ui.horizontal_wrapped(|ui| {
+        type Make = fn(PathBuf) -> Command;
+        let buttons: [(&str, Make); 6] = [
+            ("Open", Command::Open),
+            ("Save", Command::Save),
+            ("Export JSON", Command::ExportJson),
+            ("Export SVG", Command::ExportSvg),
+            ("Export DXF", Command::ExportDxf),
+            ("Export PNG", Command::ExportPng),
+        ];
+        for (label, make) in buttons {
+            if ui.add_enabled(has_path, egui::Button::new(label)).clicked() {
+                commands.push(make(target()));
+            }
+        }
+    });
+}
+
+/// Replay controls: start/stop and the speed.
+pub fn replay(ui: &mut Ui, speed: &mut f64, replay: Option<&Replay>, commands: &mut Vec<Command>) {
+    ui.heading("Replay");
+    ui.horizontal(|ui| match replay {
+        None => {
+            if ui.button("Replay").clicked() {
+                commands.push(Command::StartReplay);
+            }
+        }
+        Some(r) => {
+            if ui.button("Stop").clicked() {
+                commands.push(Command::StopReplay);
+            }
+            ui.label(format!("{:.1} / {:.1} s", r.clock(), r.duration()));
+        }
+    });
+    ui.add(
+        egui::Slider::new(speed, SPEED_RANGE.0..=SPEED_RANGE.1)
+            .logarithmic(true)
+            .text("speed"),
+    );
+}
+
+/// The table of every segment: α, length, κ0, κ1, max deviation. A click selects the row.
+pub fn segment_table(
+    ui: &mut Ui,
+    scene: &SceneData,
+    selected: Option<Selection>,
+    commands: &mut Vec<Command>,
+) {
+    let count = scene.segments().count();
+    ui.heading(format!("Segments ({count})"));
+    ScrollArea::vertical().show(ui, |ui| {
+        egui::Grid::new("segments")
+            .striped(true)
+            .num_columns(6)
+            .show(ui, |ui| {
+                for head in ["segment", "α", "length", "κ0", "κ1", "max dev"] {
+                    ui.strong(head);
+                }
+                ui.end_row();
+                for (selection, stroke, seg) in scene.segments() {
+                    let name = segment_name(stroke, selection);
+                    let is_selected = selected == Some(selection);
+                    if ui.selectable_label(is_selected, name).clicked() {
+                        commands.push(Command::Select((!is_selected).then_some(selection)));
+                    }
+                    let s = &seg.segment;
+                    ui.label(s.alpha().map_or("arc/line".into(), |a| format!("{a:.3}")));
+                    ui.label(format!("{:.3}", s.length()));
+                    ui.label(format!("{:.4}", s.kappa0()));
+                    ui.label(format!("{:.4}", s.kappa1()));
+                    ui.label(format!("{:.4}", seg.max_deviation));
+                    ui.end_row();
+                }
+            });
+    });
+}
+
+/// A row's name: stroke, piece and segment, counted from 1.
+pub fn segment_name(stroke: usize, s: Selection) -> String {
+    format!("{}.{}.{}", stroke + 1, s.piece + 1, s.segment + 1)
+}

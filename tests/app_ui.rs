@@ -1,0 +1,316 @@
+//! Headless UI tests of `kansei app` with egui_kittest: pointer events in, widget queries and
+//! the canvas's rendered image out. No window and no GPU: the canvas is drawn by tiny-skia.
+#![cfg(feature = "app")]
+
+use std::path::PathBuf;
+use std::time::{Duration, Instant};
+
+use eframe::egui::{self, Event, Modifiers, PointerButton, Vec2};
+use egui_kittest::Harness;
+use egui_kittest::kittest::Queryable;
+use kansei::app::{AppOptions, KanseiApp};
+
+/// Window size of the harness, points.
+const WINDOW: [f32; 2] = [1280.0, 800.0];
+
+/// Simulated frame time, seconds: a 60 Hz display (kittest's default is 0.25 s, which would end
+/// a replay in a few frames).
+const FRAME_S: f32 = 1.0 / 60.0;
+
+/// Longest wait for the fitting thread; a guard against a hang, not a timing claim.
+const FIT_DEADLINE: Duration = Duration::from_secs(120);
+
+/// A fresh directory under the system's temp dir for one test.
+fn temp_dir(name: &str) -> PathBuf {
+    let dir = std::env::temp_dir().join(format!("kansei-app-ui-{name}-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    let _ = std::fs::create_dir_all(&dir);
+    dir
+}
+
+fn harness(options: AppOptions) -> Harness<'static, KanseiApp> {
+    let app = KanseiApp::new(&egui::Context::default(), options);
+    Harness::builder()
+        .with_size(WINDOW)
+        .with_step_dt(FRAME_S)
+        .build_ui_state(|ui, app: &mut KanseiApp| app.ui(ui), app)
+}
+
+/// Steps until every fit is back (the worker thread runs meanwhile).
+fn wait_for_fits(harness: &mut Harness<'static, KanseiApp>) {
+    let start = Instant::now();
+    loop {
+        harness.step();
+        if harness.state().fits_settled() {
+            // One more frame so the panels show what arrived.
+            harness.step();
+            harness.step();
+            return;
+        }
+        assert!(start.elapsed() < FIT_DEADLINE, "the fit never arrived");
+        std::thread::sleep(Duration::from_millis(10));
+    }
+}
+
+/// Draws a 100° arc of radius 80 points with the primary button, one frame per move.
+fn draw_arc(harness: &mut Harness<'static, KanseiApp>) {
+    harness.step();
+    let rect = harness.state().canvas().screen_rect();
+    let Some(rect) = rect else {
+        panic!("the canvas was not shown");
+    };
+    let centre = rect.center() + Vec2::new(-40.0, 40.0);
+    let point = |deg: f32| {
+        let a = deg.to_radians();
+        centre + 80.0 * Vec2::new(a.cos(), -a.sin())
+    };
+    let start = point(0.0);
+    harness.event(Event::PointerMoved(start));
+    harness.step();
+    harness.event(Event::PointerButton {
+        pos: start,
+        button: PointerButton::Primary,
+        pressed: true,
+        modifiers: Modifiers::NONE,
+    });
+    harness.step();
+    let mut last = start;
+    for deg in (2..=100).step_by(2) {
+        last = point(deg as f32);
+        harness.event(Event::PointerMoved(last));
+        harness.step();
+    }
+    harness.event(Event::PointerButton {
+        pos: last,
+        button: PointerButton::Primary,
+        pressed: false,
+        modifiers: Modifiers::NONE,
+    });
+    harness.step();
+}
+
+fn segment_count(harness: &Harness<'static, KanseiApp>) -> usize {
+    harness.state().scene().segments().count()
+}
+
+#[test]
+fn a_drawn_stroke_is_fitted_and_its_segments_are_listed() {
+    let mut harness = harness(AppOptions::default());
+    draw_arc(&mut harness);
+    assert_eq!(harness.state().document().strokes().len(), 1);
+    let stroke = &harness.state().document().strokes()[0].stroke;
+    assert!(
+        stroke.samples.len() >= 40,
+        "{} samples",
+        stroke.samples.len()
+    );
+    assert!(stroke.samples.iter().all(|s| s.t.is_some()));
+    wait_for_fits(&mut harness);
+    let n = segment_count(&harness);
+    assert!(n >= 1);
+    harness.get_by_label(&format!("Segments ({n})"));
+    // The first row, stroke 1, piece 1, segment 1, selects the segment and shows its plots.
+    harness.get_by_label("1.1.1").click();
+    harness.step();
+    harness.step();
+    let selection = harness.state().view.selection;
+    assert!(selection.is_some());
+    assert_eq!(harness.state().render_options().highlight, Some((0, 0)));
+    harness.get_by_label_contains("LCG");
+    // The fitted arc is near a circle of radius 80 points = 20 mm at 4 px/mm (and 1 point per
+    // pixel here): the segments' curvature is within 10 % of 1/20 mm⁻¹.
+    for (_, _, seg) in harness.state().scene().segments() {
+        for k in [seg.segment.kappa0(), seg.segment.kappa1()] {
+            assert!((k.abs() - 0.05).abs() < 0.005, "κ = {k}");
+        }
+    }
+}
+
+#[test]
+fn overlay_toggles_change_the_rendered_image() {
+    let mut harness = harness(AppOptions::default());
+    draw_arc(&mut harness);
+    wait_for_fits(&mut harness);
+    let before = harness
+        .state()
+        .canvas()
+        .rendered()
+        .map(|r| r.pixmap.clone());
+    let Some(before) = before else {
+        panic!("nothing rendered");
+    };
+    for label in ["samples", "B-spline", "split points", "LAC segments"] {
+        harness.get_by_label(label).click();
+    }
+    harness.step();
+    harness.step();
+    let rendered = harness.state().canvas().rendered();
+    let Some(after) = rendered else {
+        panic!("nothing rendered");
+    };
+    let o = after.options.overlays;
+    assert!(!o.samples && !o.bspline && !o.splits && !o.segments);
+    assert_ne!(after.pixmap.data(), before.data());
+    // With the drawing's layers off, only the legend and scale bar remain: fewer ink pixels.
+    let ink = |p: &kansei::render::Pixmap| p.pixels().iter().filter(|c| c.red() < 200).count();
+    assert!(
+        ink(&after.pixmap) < ink(&before),
+        "{} vs {}",
+        ink(&after.pixmap),
+        ink(&before)
+    );
+}
+
+#[test]
+fn undo_removes_the_stroke_and_redo_brings_it_back() {
+    let mut harness = harness(AppOptions::default());
+    draw_arc(&mut harness);
+    wait_for_fits(&mut harness);
+    let drawn = harness.state().document().strokes()[0].stroke.clone();
+    let n = segment_count(&harness);
+    harness.get_by_label("Undo").click();
+    harness.step();
+    harness.step();
+    assert!(harness.state().document().strokes().is_empty());
+    assert_eq!(segment_count(&harness), 0);
+    harness.get_by_label("Segments (0)");
+    harness.get_by_label("Redo").click();
+    harness.step();
+    wait_for_fits(&mut harness);
+    assert_eq!(harness.state().document().strokes()[0].stroke, drawn);
+    assert_eq!(segment_count(&harness), n);
+}
+
+#[test]
+fn a_bad_file_leaves_the_drawing_and_says_why() {
+    let dir = temp_dir("bad-file");
+    let bad = dir.join("broken.json");
+    let _ = std::fs::write(&bad, "{\"format\": \"kansei-stroke\", \"version\": 7}");
+    let mut harness = harness(AppOptions::default());
+    draw_arc(&mut harness);
+    wait_for_fits(&mut harness);
+    let strokes = harness.state().document().strokes().to_vec();
+    harness.state_mut().view.path = bad.display().to_string();
+    harness.step();
+    harness.get_by_label("Open").click();
+    harness.step();
+    harness.step();
+    assert_eq!(harness.state().document().strokes(), &strokes[..]);
+    harness.get_by_label_contains("cannot open");
+    harness.get_by_label_contains("broken.json");
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+#[test]
+fn a_finished_stroke_survives_in_the_recovery_file() {
+    let dir = temp_dir("recovery");
+    let recovery = dir.join("recovery.json");
+    let options = AppOptions {
+        recovery: Some(recovery.clone()),
+        ..AppOptions::default()
+    };
+    let mut first = harness(options.clone());
+    draw_arc(&mut first);
+    let drawn = first.state().document().to_file();
+    assert!(recovery.exists(), "no recovery file after a stroke");
+    // The app is "killed": no on_exit. The next start offers the drawing back.
+    drop(first);
+    let mut second = harness(options);
+    second.step();
+    assert!(second.state().recovery_offered());
+    second.get_by_label("Recover").click();
+    second.step();
+    second.step();
+    assert_eq!(second.state().document().to_file(), drawn);
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+#[test]
+fn an_opened_fixture_is_fitted_and_replayed() {
+    let fixture = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("fixtures/strokes");
+    let Some(path) = std::fs::read_dir(&fixture).ok().and_then(|d| {
+        let mut paths: Vec<PathBuf> = d.filter_map(Result::ok).map(|e| e.path()).collect();
+        paths.sort();
+        paths
+            .into_iter()
+            .find(|p| p.extension().is_some_and(|e| e == "json"))
+    }) else {
+        panic!("no fixture in {}", fixture.display());
+    };
+    let mut harness = harness(AppOptions {
+        open: Some(path.clone()),
+        replay: true,
+        ..AppOptions::default()
+    });
+    harness.step();
+    let strokes = harness.state().document().strokes().len();
+    assert!(strokes >= 1);
+    // While replaying, the canvas shows fewer samples than the file has.
+    let total: usize = harness
+        .state()
+        .document()
+        .strokes()
+        .iter()
+        .map(|s| s.stroke.samples.len())
+        .sum();
+    let shown: usize = harness
+        .state()
+        .scene()
+        .strokes
+        .iter()
+        .map(|s| s.samples.len())
+        .sum();
+    assert!(
+        shown < total,
+        "{shown} of {total} samples shown at the replay's start"
+    );
+    harness.get_by_label("Stop").click();
+    wait_for_fits(&mut harness);
+    let shown: usize = harness
+        .state()
+        .scene()
+        .strokes
+        .iter()
+        .map(|s| s.samples.len())
+        .sum();
+    assert_eq!(shown, total);
+    assert!(segment_count(&harness) >= 1);
+}
+
+#[test]
+fn fixing_alpha_refits_the_selected_stroke_at_once() {
+    let mut harness = harness(AppOptions::default());
+    draw_arc(&mut harness);
+    wait_for_fits(&mut harness);
+    let revision = harness.state().document().strokes()[0].revision;
+    harness.get_by_label("1.1.1").click();
+    harness.step();
+    harness.get_by_label("fixed").click();
+    harness.step();
+    let stroke = &harness.state().document().strokes()[0];
+    assert_ne!(
+        stroke.revision, revision,
+        "the settings change is a new revision"
+    );
+    // The range [−3, 3] becomes its middle, α = 0, for this stroke only.
+    assert_eq!(stroke.settings.alpha, kansei::lac::AlphaChoice::Fixed(0.0));
+    assert_eq!(
+        harness.state().view.new_stroke_settings,
+        kansei::app::document::FitSettings::default()
+    );
+    wait_for_fits(&mut harness);
+    for (_, _, seg) in harness.state().scene().segments() {
+        assert!(
+            seg.segment.alpha().is_none_or(|a| a == 0.0),
+            "{:?}",
+            seg.segment.alpha()
+        );
+    }
+    // Undo restores the range and refits again.
+    harness.get_by_label("Undo").click();
+    harness.step();
+    assert_eq!(
+        harness.state().document().strokes()[0].settings,
+        kansei::app::document::FitSettings::default()
+    );
+}
