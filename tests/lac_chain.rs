@@ -197,3 +197,38 @@ fn the_logarithmic_curvature_graphs_are_in_the_json_on_request() {
     );
     assert!(lcg.bspline_slope.is_some_and(f64::is_finite));
 }
+
+/// The chain starts and ends where the stroke does: a free end joint sits at its end sample's
+/// foot (along-track offset ≈ 0), so the curve neither overruns the stroke nor stops short. A
+/// quarter circle (r = 40, 91 samples, tolerance 0.1), clean and with noise; before the end
+/// anchors the refinement let the arc overrun both ends by 0.93 (1.3°).
+#[test]
+fn chain_ends_sit_at_the_end_samples() {
+    let mut rng = Rng::new(7);
+    for noise in [0.0, 0.02] {
+        let points: Vec<Point> = (0..91)
+            .map(|i| {
+                let a = (i as f64).to_radians();
+                Point::new(40.0 * a.cos(), 40.0 * a.sin())
+                    + Vec2::new(noise * rng.normal(), noise * rng.normal())
+            })
+            .collect();
+        let (first, last) = (points[0], points[90]);
+        let stroke = Stroke::from_points(points);
+        let fits = fit_stroke(&stroke, 0, 0.1, &PipelineOptions::default()).expect("fit");
+        assert_eq!(fits.len(), 1);
+        let chain = chain_of(&fits[0]);
+        let (s, e) = (
+            &chain.segments[0].segment,
+            &chain.segments[chain.segments.len() - 1].segment,
+        );
+        let t0 = Vec2::new(s.theta0().cos(), s.theta0().sin());
+        let t1 = Vec2::new(e.theta1().cos(), e.theta1().sin());
+        let (along0, along1) = ((first - s.start()).dot(t0), (last - e.end()).dot(t1));
+        assert!(
+            along0.abs() <= 0.01 && along1.abs() <= 0.01,
+            "noise {noise}: ends off along the curve by {along0}, {along1}"
+        );
+        assert!(s.start().distance(first) <= 0.1 && e.end().distance(last) <= 0.1);
+    }
+}

@@ -157,7 +157,11 @@ pub(crate) fn refine(state: &mut State<'_>, options: &RefineOptions) -> Option<R
         let base: Vec<Vec<f64>> = current
             .iter()
             .enumerate()
-            .map(|(k, e)| residuals_at_feet(&e.segment, &state.points_of(k), e))
+            .map(|(k, e)| {
+                let mut r = residuals_at_feet(&e.segment, &state.points_of(k), e);
+                r.extend(state.end_anchors(k));
+                r
+            })
             .collect();
         for (c, &u) in unknowns.iter().enumerate() {
             let h = step_of(u, options);

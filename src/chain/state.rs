@@ -99,12 +99,13 @@ impl State<'_> {
     ) -> Result<Evaluated, LacError> {
         let segment = self.segment_near(k, near)?;
         let d = deviation(&segment, &self.points_of(k), chord_error);
-        let residuals = d
+        let mut residuals: Vec<f64> = d
             .distances
             .iter()
             .zip(&d.sides)
             .map(|(x, s)| x * s)
             .collect();
+        residuals.extend(self.end_anchors(k));
         Ok(Evaluated {
             residuals,
             max: d.max,
@@ -123,7 +124,36 @@ impl State<'_> {
     /// lies beyond it) are measured by the distance to the end point, with the old side.
     pub fn residuals_near(&self, k: usize, near: &Evaluated) -> Result<Vec<f64>, LacError> {
         let segment = self.segment_near(k, Some(&near.segment))?;
-        Ok(residuals_at_feet(&segment, &self.points_of(k), near))
+        let mut residuals = residuals_at_feet(&segment, &self.points_of(k), near);
+        residuals.extend(self.end_anchors(k));
+        Ok(residuals)
+    }
+
+    /// The extra residuals that pin the chain's free ends to the data: for the first segment
+    /// (when the piece starts freely, not at a corner) the along-track offset
+    /// (q_first − P_start)·T_start of its first sample from the start joint, and likewise for the
+    /// last segment's end. The sample distances alone leave an end joint free to slide along the
+    /// curve (it barely changes them), and the refinement then lets the chain overrun the stroke;
+    /// these rows hold each end at its end sample's foot. They count in the least-squares cost,
+    /// not in the reported distances.
+    pub fn end_anchors(&self, k: usize) -> Vec<f64> {
+        let mut out = Vec::new();
+        let Some(samples) = self.samples.get(k) else {
+            return out;
+        };
+        if k == 0
+            && let (Some(&first), Some(joint)) = (samples.first(), self.joints.first())
+            && joint.kind == JointKind::Start
+        {
+            out.push((self.points[first] - joint.p).dot(joint.tangent()));
+        }
+        if k + 1 == self.len()
+            && let (Some(&last), Some(joint)) = (samples.last(), self.joints.last())
+            && joint.kind == JointKind::End
+        {
+            out.push((self.points[last] - joint.p).dot(joint.tangent()));
+        }
+        out
     }
 
     /// The sample positions of segment `k`.
