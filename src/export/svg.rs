@@ -375,64 +375,56 @@ fn segment_commands(
 ) -> Option<(String, SvgSegmentReport)> {
     let mut d = String::new();
     let (k0, k1) = (segment.kappa0(), segment.kappa1());
-    let report = if k0 == 0.0 && k1 == 0.0 {
-        d.push_str(" L");
-        push_xy(&mut d, segment.end());
-        bounds.add(segment.start(), pad);
-        bounds.add(segment.end(), pad);
-        SvgSegmentReport {
-            element: SvgElement::Line,
-            commands: 1,
-            error: 0.0,
-        }
-    } else if k0 == k1 && arc_sagitta(segment) <= ARC_AS_LINE_FRACTION * accuracy {
-        // So nearly straight that the arc's radius is ill-conditioned: a line, within a
-        // thousandth of the accuracy.
-        d.push_str(" L");
-        push_xy(&mut d, segment.end());
-        bounds.add(segment.start(), pad);
-        bounds.add(segment.end(), pad);
-        SvgSegmentReport {
-            element: SvgElement::Line,
-            commands: 1,
-            error: arc_sagitta(segment),
-        }
-    } else if k0 == k1 {
-        let turning = (k0 * segment.length()).abs();
-        // At least one arc; the count is small (turning/quarter turn), saturating for safety.
-        let n = ((turning / MAX_ARC_TURNING).ceil() as usize).max(1);
-        let radius = 1.0 / k0.abs();
-        let sweep = u8::from(k0 > 0.0);
-        for i in 1..=n {
-            let end = if i == n {
-                segment.end()
-            } else {
-                segment.point(segment.length() * i as f64 / n as f64)
-            };
-            let _ = write!(d, " A {radius} {radius} 0 0 {sweep}");
-            push_xy(&mut d, end);
-        }
-        let chord = LAC_CHORD_ERROR_FRACTION * pad;
-        for s in segment.samples(lac_spacing(segment, chord)) {
-            bounds.add(s.point, pad + chord);
-        }
-        SvgSegmentReport {
-            element: SvgElement::Arc,
-            commands: n,
-            error: 0.0,
-        }
-    } else {
-        let fit = segment_beziers(segment, accuracy);
-        for c in &fit.cubics {
-            push_cubic(&mut d, c);
-            bounds.add_rect(c.bounding_box(), pad);
-        }
-        SvgSegmentReport {
-            element: SvgElement::Cubic,
-            commands: fit.cubics.len(),
-            error: fit.error,
-        }
-    };
+    // A line, or an arc so nearly straight that its radius is ill-conditioned: a line, within a
+    // thousandth of the accuracy.
+    let straight = k0 == 0.0 && k1 == 0.0;
+    let report =
+        if straight || (k0 == k1 && arc_sagitta(segment) <= ARC_AS_LINE_FRACTION * accuracy) {
+            d.push_str(" L");
+            push_xy(&mut d, segment.end());
+            bounds.add(segment.start(), pad);
+            bounds.add(segment.end(), pad);
+            SvgSegmentReport {
+                element: SvgElement::Line,
+                commands: 1,
+                error: if straight { 0.0 } else { arc_sagitta(segment) },
+            }
+        } else if k0 == k1 {
+            let turning = (k0 * segment.length()).abs();
+            // At least one arc; the count is small (turning/quarter turn), saturating for safety.
+            let n = ((turning / MAX_ARC_TURNING).ceil() as usize).max(1);
+            let radius = 1.0 / k0.abs();
+            let sweep = u8::from(k0 > 0.0);
+            for i in 1..=n {
+                let end = if i == n {
+                    segment.end()
+                } else {
+                    segment.point(segment.length() * i as f64 / n as f64)
+                };
+                let _ = write!(d, " A {radius} {radius} 0 0 {sweep}");
+                push_xy(&mut d, end);
+            }
+            let chord = LAC_CHORD_ERROR_FRACTION * pad;
+            for s in segment.samples(lac_spacing(segment, chord)) {
+                bounds.add(s.point, pad + chord);
+            }
+            SvgSegmentReport {
+                element: SvgElement::Arc,
+                commands: n,
+                error: 0.0,
+            }
+        } else {
+            let fit = segment_beziers(segment, accuracy);
+            for c in &fit.cubics {
+                push_cubic(&mut d, c);
+                bounds.add_rect(c.bounding_box(), pad);
+            }
+            SvgSegmentReport {
+                element: SvgElement::Cubic,
+                commands: fit.cubics.len(),
+                error: fit.error,
+            }
+        };
     // A non-finite number anywhere (a degenerate segment) leaves the segment out.
     if d.contains("NaN") || d.contains("inf") {
         return None;
