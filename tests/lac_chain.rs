@@ -232,3 +232,25 @@ fn chain_ends_sit_at_the_end_samples() {
         assert!(s.start().distance(first) <= 0.1 && e.end().distance(last) <= 0.1);
     }
 }
+
+/// Every configuration the library offers fits every fixture stroke at the default tolerance and
+/// twice it: with the seed paper's B-spline stage (no fairing, segments added one by one) at twice
+/// the tolerance, merging once left a chain with a segment that no α could build
+/// (libmypaint-painting30sec stroke 28), and the whole file failed.
+#[test]
+fn the_seed_configuration_fits_every_fixture_stroke() {
+    for name in fixture_names() {
+        let file = fixture(&name);
+        let tolerance = file.units.default_tolerance();
+        for t in [tolerance, 2.0 * tolerance] {
+            for options in [
+                PipelineOptions::default().with_tolerance(t),
+                PipelineOptions::default().with_tolerance(t).seed_method(),
+            ] {
+                if let Err(e) = fit_file(&file, &options) {
+                    panic!("{name} at tolerance {t}: {e}");
+                }
+            }
+        }
+    }
+}

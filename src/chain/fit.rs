@@ -203,6 +203,10 @@ pub fn fit_chain(
             fitter.refine_guarded(&mut state, &refine_options);
         }
     }
+    // Straightening and merging check the segments they change, but a refinement guarded on the
+    // distances alone, or a tangent turned at a run's end, can leave a neighbour that no α joins
+    // (seen with the seed's unfaired B-spline): make every segment constructible again.
+    fitter.repair(&mut state, &mut searches)?;
     fitter.finish(&state, searches)
 }
 
