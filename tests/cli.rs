@@ -1,5 +1,9 @@
 //! The `kansei` binary: outputs, exit codes and error messages.
 
+mod common;
+
+use common::run_ok;
+
 use std::process::Command;
 
 fn kansei() -> Command {
@@ -15,15 +19,7 @@ fn fixture(name: &str) -> String {
 
 #[test]
 fn fit_writes_a_kansei_curve_document() {
-    let out = kansei()
-        .args(["fit", &fixture("google-ink-spring")])
-        .output()
-        .expect("runs");
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
+    let out = run_ok(kansei().args(["fit", &fixture("google-ink-spring")]));
     let doc = kansei::export::CurveFile::from_json(&String::from_utf8_lossy(&out.stdout))
         .expect("valid document");
     assert_eq!(doc.units, kansei::stroke::Units::Px);
@@ -61,27 +57,22 @@ fn alpha_can_be_fixed_or_limited_and_svg_and_dxf_written() {
     let dir = std::env::temp_dir().join(format!("kansei-cli-alpha-{}", std::process::id()));
     let svg = dir.join("spring.svg");
     let dxf = dir.join("spring.dxf");
-    let out = kansei()
-        .args([
-            "fit",
-            &fixture("perfect-freehand-waves"),
-            "--alpha",
-            "-1",
-            "--svg-layers",
-            "samples,alpha",
-            "--export-accuracy",
-            "0.02",
-            "--svg",
-        ])
-        .arg(&svg)
-        .arg("--dxf")
-        .arg(&dxf)
-        .output()
-        .expect("runs");
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
+    let out = run_ok(
+        kansei()
+            .args([
+                "fit",
+                &fixture("perfect-freehand-waves"),
+                "--alpha",
+                "-1",
+                "--svg-layers",
+                "samples,alpha",
+                "--export-accuracy",
+                "0.02",
+                "--svg",
+            ])
+            .arg(&svg)
+            .arg("--dxf")
+            .arg(&dxf),
     );
     let doc =
         kansei::export::CurveFile::from_json(&String::from_utf8_lossy(&out.stdout)).expect("valid");
@@ -140,22 +131,17 @@ fn alpha_can_be_fixed_or_limited_and_svg_and_dxf_written() {
 #[test]
 fn fit_writes_one_file_per_input_into_a_directory() {
     let dir = std::env::temp_dir().join(format!("kansei-cli-{}", std::process::id()));
-    let out = kansei()
-        .args([
-            "fit",
-            &fixture("perfect-freehand-waves"),
-            &fixture("google-ink-straight-line"),
-            "--tolerance",
-            "1.5",
-            "--json",
-        ])
-        .arg(&dir)
-        .output()
-        .expect("runs");
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
+    run_ok(
+        kansei()
+            .args([
+                "fit",
+                &fixture("perfect-freehand-waves"),
+                &fixture("google-ink-straight-line"),
+                "--tolerance",
+                "1.5",
+                "--json",
+            ])
+            .arg(&dir),
     );
     for stem in ["perfect-freehand-waves", "google-ink-straight-line"] {
         let text =
@@ -201,16 +187,7 @@ fn a_recording_replays_and_fits_end_to_end() {
     );
     let dir = std::env::temp_dir().join(format!("kansei-cli-replay-{}", std::process::id()));
     let strokes = dir.join("strokes.json");
-    let out = kansei()
-        .args(["replay", &recording, "--out"])
-        .arg(&strokes)
-        .output()
-        .expect("runs");
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
+    run_ok(kansei().args(["replay", &recording, "--out"]).arg(&strokes));
     let file =
         kansei::stroke::StrokeFile::from_json(&std::fs::read_to_string(&strokes).expect("written"))
             .expect("valid");

@@ -8,6 +8,7 @@
 //! committing. A failing comparison writes the render to `target/tmp/<name>.actual.png`.
 
 mod common;
+use common::run_ok;
 
 use kansei::geom::{Point, Rect};
 use kansei::lac::LacSegment;
@@ -616,17 +617,12 @@ fn cli_writes_the_png_at_the_requested_size_and_names_the_file_on_error() {
     let pngs = dir.join("pngs");
     let jsons = dir.join("jsons");
     let second = input.replace("google-ink-spring", "perfect-freehand-waves");
-    let out = std::process::Command::new(env!("CARGO_BIN_EXE_kansei"))
-        .args(["fit", &input, &second, "--size", "200x120", "--json"])
-        .arg(&jsons)
-        .arg("--png")
-        .arg(&pngs)
-        .output()
-        .expect("runs");
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
+    run_ok(
+        std::process::Command::new(env!("CARGO_BIN_EXE_kansei"))
+            .args(["fit", &input, &second, "--size", "200x120", "--json"])
+            .arg(&jsons)
+            .arg("--png")
+            .arg(&pngs),
     );
     for stem in ["google-ink-spring", "perfect-freehand-waves"] {
         let image = Pixmap::load_png(pngs.join(format!("{stem}.png"))).expect("a PNG");

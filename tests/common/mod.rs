@@ -107,3 +107,14 @@ pub fn fixture_names() -> Vec<String> {
     names.sort();
     names
 }
+
+/// Runs a command to completion and asserts that it succeeded, showing its stderr if not.
+pub fn run_ok(command: &mut std::process::Command) -> std::process::Output {
+    let out = command.output().expect("the command runs");
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    out
+}
