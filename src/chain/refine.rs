@@ -15,7 +15,7 @@
 //! for K segments instead of the O(K³) of a dense solve.
 
 use super::band::Band;
-use super::state::{Evaluated, State, cost, residuals_at_feet};
+use super::state::{Evaluated, State, cost};
 
 /// Options of [`refine`].
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -157,11 +157,7 @@ pub(crate) fn refine(state: &mut State<'_>, options: &RefineOptions) -> Option<R
         let base: Vec<Vec<f64>> = current
             .iter()
             .enumerate()
-            .map(|(k, e)| {
-                let mut r = residuals_at_feet(&e.segment, &state.points_of(k), e);
-                r.extend(state.end_anchors(k));
-                r
-            })
+            .map(|(k, e)| state.model_residuals(k, &e.segment, e))
             .collect();
         for (c, &u) in unknowns.iter().enumerate() {
             let h = step_of(u, options);

@@ -124,9 +124,16 @@ impl State<'_> {
     /// lies beyond it) are measured by the distance to the end point, with the old side.
     pub fn residuals_near(&self, k: usize, near: &Evaluated) -> Result<Vec<f64>, LacError> {
         let segment = self.segment_near(k, Some(&near.segment))?;
-        let mut residuals = residuals_at_feet(&segment, &self.points_of(k), near);
+        Ok(self.model_residuals(k, &segment, near))
+    }
+
+    /// The first-order residuals of [`State::residuals_near`] for a given `segment` in place of
+    /// segment `k`, end anchors included (the refinement also takes them at the current state,
+    /// where `segment` is `near`'s own).
+    pub fn model_residuals(&self, k: usize, segment: &LacSegment, near: &Evaluated) -> Vec<f64> {
+        let mut residuals = residuals_at_feet(segment, &self.points_of(k), near);
         residuals.extend(self.end_anchors(k));
-        Ok(residuals)
+        residuals
     }
 
     /// The extra residuals that pin the chain's free ends to the data: for the first segment
@@ -191,11 +198,7 @@ pub(crate) fn cost(evaluated: &[Evaluated]) -> f64 {
 }
 
 /// The first-order residual model of [`State::residuals_near`] for `segment`.
-pub(crate) fn residuals_at_feet(
-    segment: &LacSegment,
-    points: &[Point],
-    near: &Evaluated,
-) -> Vec<f64> {
+fn residuals_at_feet(segment: &LacSegment, points: &[Point], near: &Evaluated) -> Vec<f64> {
     let old_length = near.segment.length();
     points
         .iter()
