@@ -5,7 +5,10 @@ use super::state::{Joint, State};
 use crate::bspline::BSpline;
 use crate::bspline::project::Pieces;
 use crate::geom::{Point, Vec2};
-use crate::lac::{AlphaChoice, AlphaSearch, LacError, LacSegment, biarc, deviation, fit_span};
+use crate::lac::lcg::{lcg_of_bezier_span, lcg_slope};
+use crate::lac::{
+    AlphaChoice, AlphaSearch, LacError, LacSegment, biarc, deviation, fit_span, fit_span_from,
+};
 use crate::split::{Spans, SplitKind};
 
 /// Distances are seeded on a polyline whose chord error is this fraction of the tolerance, then
@@ -29,6 +32,11 @@ const MIN_SPAN_SAMPLES: usize = 3;
 
 /// Number of B-spline points standing in for the samples of a short span.
 const SPAN_REFERENCE_POINTS: usize = 8;
+
+/// Points of a span's logarithmic curvature graph whose least-squares slope starts the span's α
+/// search: enough to average out the B-spline's curvature wiggles, a few microseconds of
+/// evaluation.
+const LCG_GUESS_POINTS: usize = 16;
 
 /// Options of [`fit_chain`].
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -276,13 +284,15 @@ impl<'a> Fitter<'a> {
     }
 
     /// The α search between two joints for the given samples (B-spline points on `[u0, u1]`
-    /// stand in when there are too few samples).
+    /// stand in when there are too few samples), walking from `guess` when there is one (see
+    /// [`fit_span_from`]).
     fn search(
         &self,
         a: &Joint,
         b: &Joint,
         samples: &[usize],
         u: (f64, f64),
+        guess: Option<f64>,
     ) -> Result<(f64, AlphaSearch), LacError> {
         let points: Vec<Point> = if samples.len() >= MIN_SPAN_SAMPLES {
             samples.iter().map(|&i| self.input.points[i]).collect()
@@ -294,7 +304,7 @@ impl<'a> Fitter<'a> {
                 })
                 .collect()
         };
-        let fit = fit_span(
+        let fit = fit_span_from(
             a.p,
             a.tangent(),
             b.p,
@@ -303,6 +313,7 @@ impl<'a> Fitter<'a> {
             self.options.alpha,
             self.chord_error,
             self.max_curvature,
+            guess,
         )?;
         // Arcs and lines have no α: any value reproduces them; keep the range's middle.
         let alpha = fit.segment.alpha().unwrap_or(self.options.alpha.middle());
@@ -332,8 +343,10 @@ impl<'a> Fitter<'a> {
             let held = self.samples_in(u0, u1);
             // A span no α can join keeps a placeholder: `repair`, which runs next, gives it the
             // α its samples choose or splits it into a biarc.
+            // The slope of the span's logarithmic curvature graph starts the α search.
+            let guess = lcg_slope(&lcg_of_bezier_span(&span.pieces, LCG_GUESS_POINTS));
             let (alpha, search) = self
-                .search(&start, &end, &held, (u0, u1))
+                .search(&start, &end, &held, (u0, u1), guess)
                 .unwrap_or((self.options.alpha.middle(), AlphaSearch::default()));
             alphas.push(alpha);
             samples.push(held);
@@ -392,7 +405,7 @@ impl<'a> Fitter<'a> {
             let parent = state.alphas[k];
             let searched = |x: &Joint, y: &Joint, s: &[usize]| {
                 if s.len() >= MIN_SPAN_SAMPLES {
-                    self.search(x, y, s, (0.0, 0.0)).ok()
+                    self.search(x, y, s, (0.0, 0.0), Some(parent)).ok()
                 } else {
                     None
                 }
@@ -591,8 +604,15 @@ impl<'a> Fitter<'a> {
                     .chain(&state.samples[j])
                     .copied()
                     .collect();
+                // The merged segment starts from its parts' α, weighted by their samples.
+                let (n0, n1) = (
+                    state.samples[j - 1].len() as f64,
+                    state.samples[j].len() as f64,
+                );
+                let guess = (n0 * state.alphas[j - 1] + n1 * state.alphas[j]) / (n0 + n1).max(1.0);
                 if union.len() >= MIN_SPAN_SAMPLES
-                    && let Ok((alpha, search)) = self.search(&a, &b, &union, (0.0, 0.0))
+                    && let Ok((alpha, search)) =
+                        self.search(&a, &b, &union, (0.0, 0.0), Some(guess))
                 {
                     let mut trial = state.clone();
                     trial.joints.remove(j);

@@ -208,7 +208,7 @@ pub(crate) fn refine(state: &mut State<'_>, options: &RefineOptions) -> Option<R
             for (c, &u) in unknowns.iter().enumerate() {
                 add(&mut trial, u, -delta[c], options);
             }
-            match trial.evaluate_all_near(options.chord_error, &current) {
+            match trial.evaluate_all_from(options.chord_error, state, &current) {
                 Ok(e) if cost(&e) < current_cost => {
                     let new_cost = cost(&e);
                     let decrease = (current_cost - new_cost) / current_cost;

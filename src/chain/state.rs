@@ -98,6 +98,11 @@ impl State<'_> {
         near: Option<&LacSegment>,
     ) -> Result<Evaluated, LacError> {
         let segment = self.segment_near(k, near)?;
+        Ok(self.measure(k, segment, chord_error))
+    }
+
+    /// Segment `k`'s samples measured against `segment` (built from the state's data for `k`).
+    pub fn measure(&self, k: usize, segment: LacSegment, chord_error: f64) -> Evaluated {
         let d = deviation(&segment, &self.points_of(k), chord_error);
         let mut residuals: Vec<f64> = d
             .distances
@@ -106,12 +111,19 @@ impl State<'_> {
             .map(|(x, s)| x * s)
             .collect();
         residuals.extend(self.end_anchors(k));
-        Ok(Evaluated {
+        Evaluated {
             residuals,
             max: d.max,
             segment,
             feet: d.feet,
-        })
+        }
+    }
+
+    /// Whether segment `k` is built from the same data (joints and α) in both states.
+    pub fn same_segment(&self, other: &State<'_>, k: usize) -> bool {
+        self.alphas[k] == other.alphas[k]
+            && self.joints[k] == other.joints[k]
+            && self.joints[k + 1] == other.joints[k + 1]
     }
 
     /// Signed residuals of segment `k`'s samples under a first-order model around `near` (an
@@ -175,16 +187,40 @@ impl State<'_> {
             .collect()
     }
 
-    /// [`State::evaluate_all`], each segment warm-started from the same segment of `near` (an
-    /// evaluation of a nearby state with as many segments).
-    pub fn evaluate_all_near(
+    /// This state evaluated, given `evaluated`, the evaluation of `base` (a nearby state with as
+    /// many segments): a segment built from the same data as in `base` is taken over, the others
+    /// are built warm-started from `base`'s. All segments are built before any is measured; on
+    /// failure, the indices of those that cannot be built.
+    pub fn evaluate_all_from(
         &self,
         chord_error: f64,
-        near: &[Evaluated],
-    ) -> Result<Vec<Evaluated>, LacError> {
-        (0..self.len())
-            .map(|k| self.evaluate_near(k, chord_error, near.get(k).map(|e| &e.segment)))
-            .collect()
+        base: &State<'_>,
+        evaluated: &[Evaluated],
+    ) -> Result<Vec<Evaluated>, Vec<usize>> {
+        let mut built = Vec::with_capacity(self.len());
+        let mut failed = Vec::new();
+        for (k, old) in evaluated.iter().enumerate().take(self.len()) {
+            if self.same_segment(base, k) {
+                built.push(None);
+            } else {
+                match self.segment_near(k, Some(&old.segment)) {
+                    Ok(segment) => built.push(Some(segment)),
+                    Err(_) => failed.push(k),
+                }
+            }
+        }
+        if !failed.is_empty() {
+            return Err(failed);
+        }
+        Ok(built
+            .into_iter()
+            .zip(evaluated)
+            .enumerate()
+            .map(|(k, (segment, old))| match segment {
+                Some(segment) => self.measure(k, segment, chord_error),
+                None => old.clone(),
+            })
+            .collect())
     }
 }
 
