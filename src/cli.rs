@@ -52,6 +52,17 @@ pub struct AppArgs {
     /// [default: $XDG_STATE_HOME/kansei/recovery.kansei-stroke.json].
     #[arg(long)]
     pub recovery: Option<PathBuf>,
+    /// Draw with a live tablet: its node as `kansei devices` lists it, or nothing for the first
+    /// one found. Pressure and tilt come with the samples.
+    #[arg(long, num_args = 0..=1, default_missing_value = "", conflicts_with = "tablet_replay")]
+    pub tablet: Option<String>,
+    /// Play a hid-recorder recording (`.hid`) into the canvas as if it were the live tablet
+    /// (the same decoding and stroke cutting as a live tablet).
+    #[arg(long)]
+    pub tablet_replay: Option<PathBuf>,
+    /// Pace of `--tablet-replay` (1 = as recorded).
+    #[arg(long, default_value_t = 1.0, requires = "tablet_replay")]
+    pub tablet_speed: f64,
 }
 
 /// `kansei capture`.
@@ -260,6 +271,10 @@ pub enum CliError {
     /// Bad arguments.
     #[error("{0}")]
     Usage(String),
+    /// The app could not run (no display, no OpenGL).
+    #[cfg(feature = "app")]
+    #[error("{0}")]
+    App(#[from] crate::app::AppError),
 }
 
 /// Runs a parsed command line, writing results to `out`.
@@ -287,14 +302,35 @@ pub fn run(cli: Cli, out: &mut dyn std::io::Write) -> Result<(), CliError> {
         Command::Devices => devices(out),
         Command::Capture(args) => capture(&args, out),
         #[cfg(feature = "app")]
-        Command::App(args) => crate::app::run(crate::app::AppOptions {
-            open: args.file,
-            recovery: args
-                .recovery
-                .or_else(crate::app::files::default_recovery_path),
-            replay: args.replay,
-        })
-        .map_err(|e| CliError::Usage(e.to_string())),
+        Command::App(args) => {
+            let tablet = match (args.tablet, args.tablet_replay) {
+                (_, Some(path)) => {
+                    if !(args.tablet_speed.is_finite() && args.tablet_speed > 0.0) {
+                        return Err(CliError::Usage(format!(
+                            "--tablet-speed must be a positive number, got {}",
+                            args.tablet_speed
+                        )));
+                    }
+                    Some(crate::app::tablet::TabletChoice::Recording {
+                        path,
+                        speed: args.tablet_speed,
+                    })
+                }
+                (Some(device), None) => Some(crate::app::tablet::TabletChoice::Live(
+                    Some(device).filter(|d| !d.is_empty()),
+                )),
+                (None, None) => None,
+            };
+            crate::app::run(crate::app::AppOptions {
+                open: args.file,
+                recovery: args
+                    .recovery
+                    .or_else(crate::app::files::default_recovery_path),
+                replay: args.replay,
+                tablet,
+            })?;
+            Ok(())
+        }
     }
 }
 
@@ -349,41 +385,10 @@ fn devices(out: &mut dyn std::io::Write) -> Result<(), CliError> {
 /// Opens the tablet `--device` names, or the first one found.
 #[cfg(feature = "live")]
 fn open_live(device: Option<&str>) -> Result<Box<dyn crate::capture::source::PenSource>, CliError> {
-    use crate::capture::source::SourceError;
-    use crate::capture::{live_evdev, live_hid};
-    let source_error = |e: SourceError| CliError::Capture {
+    crate::capture::open::open_live(device).map_err(|e| CliError::Capture {
         path: device.unwrap_or("tablet").into(),
         message: e.to_string(),
-    };
-    if device.is_none_or(|d| d.contains("hidraw")) {
-        let hid = live_hid::list();
-        if let Some(t) = hid
-            .iter()
-            .find(|t| device.is_none_or(|d| t.info.node.as_deref() == Some(d)))
-        {
-            return Ok(Box::new(live_hid::LiveHid::open(t).map_err(source_error)?));
-        }
-    }
-    match device {
-        Some(d) if !d.contains("hidraw") => Ok(Box::new(
-            live_evdev::LiveEvdev::open(Path::new(d)).map_err(source_error)?,
-        )),
-        Some(d) => Err(source_error(SourceError::NotFound(format!(
-            "{d}: not a HID pen tablet (see `kansei devices`)"
-        )))),
-        None => {
-            let evdev = live_evdev::list();
-            let Some(t) = evdev.first() else {
-                return Err(source_error(SourceError::NotFound(
-                    "no pen tablet found (see `kansei devices`)".into(),
-                )));
-            };
-            let node = t.info.node.clone().unwrap_or_default();
-            Ok(Box::new(
-                live_evdev::LiveEvdev::open(Path::new(&node)).map_err(source_error)?,
-            ))
-        }
-    }
+    })
 }
 
 /// Without the `live` feature there is no device to open.

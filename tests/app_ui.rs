@@ -314,3 +314,83 @@ fn fixing_alpha_refits_the_selected_stroke_at_once() {
         kansei::app::document::FitSettings::default()
     );
 }
+
+/// Steps until the tablet feed has ended or failed.
+fn wait_for_tablet(harness: &mut Harness<'static, KanseiApp>) {
+    use kansei::app::tablet::FeedState;
+    let start = Instant::now();
+    loop {
+        harness.step();
+        let state = harness.state().tablet().map(|t| t.state().clone());
+        if matches!(state, Some(FeedState::Ended | FeedState::Failed(_))) {
+            harness.step();
+            return;
+        }
+        assert!(
+            start.elapsed() < FIT_DEADLINE,
+            "the tablet feed never ended"
+        );
+        std::thread::sleep(Duration::from_millis(10));
+    }
+}
+
+#[test]
+fn a_tablet_recording_draws_the_strokes_kansei_replay_gives() {
+    // The recording plays through the tablet feed (its own thread, paced, the capture layer's
+    // decoder and stroke builder) into the drawing: the strokes must be exactly those that
+    // `kansei replay` makes of the same file, pressure and tilt included, and get fitted.
+    use kansei::app::tablet::TabletChoice;
+    let path = PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+        .join("fixtures/hid/pen-three-vertical-strokes.hid");
+    let text = std::fs::read_to_string(&path).expect("fixture");
+    let (expected, _) = kansei::capture::replay::replay_text(&text).expect("replays");
+    let mut harness = harness(AppOptions {
+        tablet: Some(TabletChoice::Recording { path, speed: 40.0 }),
+        ..AppOptions::default()
+    });
+    wait_for_tablet(&mut harness);
+    wait_for_fits(&mut harness);
+    let app = harness.state();
+    assert_eq!(
+        app.tablet().map(|t| t.state().clone()),
+        Some(kansei::app::tablet::FeedState::Ended)
+    );
+    let drawn: Vec<_> = app
+        .document()
+        .strokes()
+        .iter()
+        .map(|s| s.stroke.clone())
+        .collect();
+    assert_eq!(drawn.len(), 3, "the recording holds three strokes");
+    assert_eq!(drawn, expected.strokes);
+    assert!(
+        drawn
+            .iter()
+            .flat_map(|s| &s.samples)
+            .all(|s| s.pressure.is_some() && s.tilt_x.is_some())
+    );
+    assert!(segment_count(&harness) >= 3, "every stroke is fitted");
+}
+
+#[test]
+fn a_tablet_that_cannot_be_opened_says_why_and_the_app_goes_on() {
+    use kansei::app::tablet::{FeedState, TabletChoice};
+    let mut harness = harness(AppOptions {
+        tablet: Some(TabletChoice::Recording {
+            path: PathBuf::from("/nonexistent/tablet.hid"),
+            speed: 1.0,
+        }),
+        ..AppOptions::default()
+    });
+    wait_for_tablet(&mut harness);
+    let state = harness.state().tablet().map(|t| t.state().clone());
+    let Some(FeedState::Failed(reason)) = state else {
+        panic!("expected a failure, got {state:?}");
+    };
+    assert!(reason.contains("/nonexistent/tablet.hid"), "{reason}");
+    harness.get_by_label_contains("tablet.hid");
+    // Drawing with the pointer still works.
+    draw_arc(&mut harness);
+    wait_for_fits(&mut harness);
+    assert_eq!(harness.state().document().strokes().len(), 1);
+}

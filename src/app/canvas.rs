@@ -78,6 +78,8 @@ pub struct Canvas {
     rendered: Option<Rendered>,
     error: Option<String>,
     rect: Option<Rect>,
+    /// The tablet's stroke in progress, in model units (drawn like the pointer's).
+    pub tablet_live: Vec<Point>,
 }
 
 impl std::fmt::Debug for Canvas {
@@ -170,6 +172,10 @@ impl Canvas {
 
         if let Some(live) = &self.live {
             let line: Vec<Pos2> = live.points.iter().map(|&p| to_screen(p)).collect();
+            painter.line(line, (LIVE_STROKE_WIDTH, LIVE_STROKE_COLOUR));
+        }
+        if self.tablet_live.len() >= 2 {
+            let line: Vec<Pos2> = self.tablet_live.iter().map(|&p| to_screen(p)).collect();
             painter.line(line, (LIVE_STROKE_WIDTH, LIVE_STROKE_COLOUR));
         }
         if let Some(error) = &self.error {

@@ -10,6 +10,7 @@
 //! canvas.rs    Canvas: the render texture, pan/zoom, pointer → samples
 //! panels.rs    the side panels: fit settings, overlays, files, replay, the segment table
 //! plots.rs     the selected segment's plots (egui_plot)
+//! tablet.rs    TabletFeed: a live tablet (or a recording played as one) on its own thread
 //! ```
 //!
 //! The UI emits [`Command`]s; [`KanseiApp::execute`] applies them. The document changes only
@@ -23,6 +24,7 @@ pub mod panels;
 pub mod plots;
 pub mod replay;
 pub mod scene;
+pub mod tablet;
 pub mod worker;
 
 use std::path::{Path, PathBuf};
@@ -52,6 +54,8 @@ pub struct AppOptions {
     pub recovery: Option<PathBuf>,
     /// Start replaying the opened file's strokes.
     pub replay: bool,
+    /// Read a tablet (live, or a recording played as one).
+    pub tablet: Option<tablet::TabletChoice>,
 }
 
 /// Everything the UI can ask for.
@@ -144,6 +148,10 @@ pub struct KanseiApp {
     /// The change count of the last save (nothing unsaved when equal to the document's).
     saved: u64,
     replay: Option<Replay>,
+    tablet: Option<tablet::TabletFeed>,
+    /// Tablet strokes waiting for a drawing whose units they can join (see
+    /// [`KanseiApp::take_tablet_strokes`]).
+    tablet_pending: Vec<crate::stroke::Stroke>,
     /// The selected segment's plot series, with the selection and scene key they were made for.
     plots: Option<(Selection, (u64, u64, u64), plots::SegmentPlots)>,
 }
@@ -188,8 +196,17 @@ impl KanseiApp {
             autosaved: 0,
             saved: 0,
             replay: None,
+            tablet: None,
+            tablet_pending: Vec::new(),
             plots: None,
         };
+        if let Some(choice) = options.tablet {
+            let wake_ctx = ctx.clone();
+            app.tablet = Some(tablet::TabletFeed::start(
+                choice,
+                Box::new(move || wake_ctx.request_repaint()),
+            ));
+        }
         if let Some(path) = &options.recovery {
             match files::read_recovery(path) {
                 Ok(file) => app.recovered = file,
@@ -446,12 +463,61 @@ impl KanseiApp {
         });
     }
 
+    /// The tablet's state, when one was asked for.
+    pub fn tablet(&self) -> Option<&tablet::TabletFeed> {
+        self.tablet.as_ref()
+    }
+
+    /// Moves the tablet's finished strokes into the drawing. Tablet samples are millimetres: a
+    /// drawing in mm takes them as they are, one in px at the CSS 96 px per inch; a drawing in
+    /// device units has no known scale, so they wait (and say so) until the drawing is one of
+    /// those, rather than being dropped.
+    fn take_tablet_strokes(&mut self) {
+        let Some(feed) = &mut self.tablet else {
+            return;
+        };
+        self.tablet_pending.extend(feed.poll());
+        if self.tablet_pending.is_empty() {
+            return;
+        }
+        let Some(scale) = mm_to(self.doc.units()) else {
+            let text = format!(
+                "{} tablet strokes wait: they are in mm and this drawing is in {} units",
+                self.tablet_pending.len(),
+                self.doc.units().name()
+            );
+            if self.status.as_ref().is_none_or(|s| s.text != text) {
+                self.set_error(text);
+            }
+            return;
+        };
+        for mut stroke in std::mem::take(&mut self.tablet_pending) {
+            for sample in &mut stroke.samples {
+                sample.x *= scale;
+                sample.y *= scale;
+            }
+            self.execute(Command::Edit(Edit::AddStroke {
+                stroke,
+                settings: self.view.new_stroke_settings,
+            }));
+        }
+    }
+
     /// Takes in the fits that have arrived and advances the replay.
     fn logic(&mut self, ctx: &egui::Context) {
         if let Some(worker) = &self.worker {
             for result in worker.poll() {
                 self.fits.accept(result, &self.doc);
             }
+        }
+        self.take_tablet_strokes();
+        if let Some(feed) = &self.tablet {
+            let scale = mm_to(self.doc.units()).unwrap_or(1.0);
+            self.canvas.tablet_live = feed
+                .live_points()
+                .into_iter()
+                .map(|p| crate::geom::Point::new(p.x * scale, p.y * scale))
+                .collect();
         }
         if let Some(replay) = &mut self.replay {
             let dt = ctx.input(|i| f64::from(i.stable_dt));
@@ -475,7 +541,13 @@ impl KanseiApp {
             panels::top_bar(ui, &self.doc, self.replay.is_some(), &mut commands);
         });
         egui::Panel::bottom("kansei-status").show(ui, |ui| {
-            panels::status_line(ui, self.status.as_ref(), &self.doc, &self.fits);
+            panels::status_line(
+                ui,
+                self.status.as_ref(),
+                &self.doc,
+                &self.fits,
+                self.tablet.as_ref(),
+            );
         });
         egui::Panel::left("kansei-settings").show(ui, |ui| {
             egui::ScrollArea::vertical().show(ui, |ui| {
@@ -526,7 +598,10 @@ impl KanseiApp {
         for command in commands {
             self.execute(command);
         }
-        if self.canvas.is_drawing() || !self.fits_settled() {
+        if self.canvas.is_drawing()
+            || !self.fits_settled()
+            || self.tablet.as_ref().is_some_and(|t| t.is_drawing())
+        {
             ui.ctx().request_repaint();
         }
     }
@@ -543,6 +618,18 @@ impl KanseiApp {
 }
 
 /// Undo: Ctrl+Z; redo: Ctrl+Shift+Z or Ctrl+Y.
+/// The factor from millimetres to `units` (`None` for device units, which have no known scale).
+fn mm_to(units: crate::stroke::Units) -> Option<f64> {
+    match units {
+        crate::stroke::Units::Mm => Some(1.0),
+        crate::stroke::Units::Px => Some(PX_PER_MM),
+        crate::stroke::Units::Device => None,
+    }
+}
+
+/// CSS pixels per millimetre (96 per inch).
+pub const PX_PER_MM: f64 = 96.0 / 25.4;
+
 fn shortcuts(ui: &mut egui::Ui, commands: &mut Vec<Command>) {
     let redo = [
         KeyboardShortcut::new(Modifiers::COMMAND | Modifiers::SHIFT, Key::Z),

@@ -48,8 +48,23 @@ pub fn top_bar(ui: &mut Ui, doc: &Document, replaying: bool, commands: &mut Vec<
 }
 
 /// The feedback line: the last message, stroke and fit counts.
-pub fn status_line(ui: &mut Ui, status: Option<&super::Status>, doc: &Document, fits: &Fits) {
+pub fn status_line(
+    ui: &mut Ui,
+    status: Option<&super::Status>,
+    doc: &Document,
+    fits: &Fits,
+    tablet: Option<&super::tablet::TabletFeed>,
+) {
     ui.horizontal(|ui| {
+        if let Some(feed) = tablet {
+            let failed = matches!(feed.state(), super::tablet::FeedState::Failed(_));
+            if failed {
+                ui.colored_label(ui.visuals().error_fg_color, feed.summary());
+            } else {
+                ui.label(feed.summary());
+            }
+            ui.separator();
+        }
         let pending = doc
             .strokes()
             .iter()

@@ -15,8 +15,9 @@
 //! - [`session`]: the capture loop, each stroke written as it ends.
 //! - [`writer`]: the crash-safe `kansei-stroke` writer and the hid-recorder raw writer.
 //! - [`evdev_frames`]: evdev events framed into pen reports.
+//! - [`paced`]: a source replayed in real time (a recording standing in for a live tablet).
 //! - `live_hid`, `live_evdev` (feature `live`): tablets through `/dev/hidraw*` (hidapi) and
-//!   `/dev/input/event*` (evdev).
+//!   `/dev/input/event*` (evdev); `open` (feature `live`): a tablet opened by its node name.
 
 pub mod evdev_frames;
 pub mod evemu;
@@ -26,6 +27,9 @@ pub mod inkml;
 pub mod live_evdev;
 #[cfg(feature = "live")]
 pub mod live_hid;
+#[cfg(feature = "live")]
+pub mod open;
+pub mod paced;
 pub mod quickdraw;
 pub mod recorder;
 pub mod replay;

@@ -78,6 +78,9 @@ pub enum SourceError {
     /// No tablet matched.
     #[error("{0}")]
     NotFound(String),
+    /// A replay speed that is not a positive number.
+    #[error("replay speed must be a positive number, got {0}")]
+    Speed(f64),
 }
 
 impl SourceError {

@@ -107,6 +107,22 @@ impl StrokeBuilder {
         }
     }
 
+    /// The strokes finished so far, in order, taken out of the builder (a live consumer calls
+    /// this after every batch of reports; the run in progress stays).
+    pub fn take_finished(&mut self) -> Vec<BuiltStroke> {
+        std::mem::take(&mut self.done)
+    }
+
+    /// The run in progress, if any (for drawing it while the pen moves).
+    pub fn current(&self) -> Option<&BuiltStroke> {
+        self.current.as_ref()
+    }
+
+    /// What was dropped so far.
+    pub fn stats(&self) -> BuilderStats {
+        self.stats
+    }
+
     /// Ends the run in progress and returns the strokes in order, with the drop counts.
     pub fn finish(mut self) -> (Vec<BuiltStroke>, BuilderStats) {
         self.end_run();
