@@ -104,6 +104,8 @@ pub struct CurveFit {
     pub indices: Vec<usize>,
     /// The log-aesthetic chain (`None` when [`PipelineOptions::lac`] is off).
     pub chain: Option<Chain>,
+    /// The tolerance the piece was fitted to (its `within_tolerance` flags refer to it).
+    pub tolerance: f64,
 }
 
 /// The pipeline's result for a file.
@@ -243,6 +245,7 @@ pub fn fit_stroke(
                 points: piece.points.clone(),
                 indices: piece.indices.clone(),
                 chain,
+                tolerance,
             })
         })
         .collect()

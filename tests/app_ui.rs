@@ -394,3 +394,73 @@ fn a_tablet_that_cannot_be_opened_says_why_and_the_app_goes_on() {
     wait_for_fits(&mut harness);
     assert_eq!(harness.state().document().strokes().len(), 1);
 }
+
+/// Clicks the primary button at `pos` (press and release, no movement).
+fn click_at(harness: &mut Harness<'static, KanseiApp>, pos: egui::Pos2) {
+    harness.event(Event::PointerMoved(pos));
+    harness.step();
+    for pressed in [true, false] {
+        harness.event(Event::PointerButton {
+            pos,
+            button: PointerButton::Primary,
+            pressed,
+            modifiers: Modifiers::NONE,
+        });
+        harness.step();
+    }
+    harness.step();
+}
+
+/// The screen position (points) of a model point in the canvas's current view.
+fn on_screen(harness: &Harness<'static, KanseiApp>, p: kansei::geom::Point) -> egui::Pos2 {
+    let canvas = harness.state().canvas();
+    let (Some(view), Some(rect)) = (canvas.view(), canvas.screen_rect()) else {
+        panic!("the canvas was not shown");
+    };
+    let px = view.to_pixel(p);
+    // The harness draws at one pixel per point.
+    rect.min + Vec2::new(px.x as f32, px.y as f32)
+}
+
+#[test]
+fn clicking_a_segment_selects_it_and_delete_removes_its_stroke() {
+    let mut harness = harness(AppOptions::default());
+    draw_arc(&mut harness);
+    wait_for_fits(&mut harness);
+    let strokes = harness.state().document().strokes().len();
+    assert_eq!(strokes, 1);
+    // Click the middle of the last segment: it becomes the selection.
+    let (want, middle) = {
+        let (selection, _, seg) = harness
+            .state()
+            .scene()
+            .segments()
+            .last()
+            .expect("a fitted segment");
+        (selection, seg.segment.point(0.5 * seg.segment.length()))
+    };
+    let pos = on_screen(&harness, middle);
+    click_at(&mut harness, pos);
+    assert_eq!(harness.state().view.selection, Some(want));
+    assert_eq!(
+        harness.state().document().strokes().len(),
+        strokes,
+        "a click draws nothing"
+    );
+    // A click far from every segment clears the selection.
+    let away = on_screen(&harness, middle) + Vec2::new(0.0, 150.0);
+    click_at(&mut harness, away);
+    assert_eq!(harness.state().view.selection, None);
+    // Select again, then delete the stroke with the button; undo brings it back.
+    click_at(&mut harness, pos);
+    assert_eq!(harness.state().view.selection, Some(want));
+    harness.get_by_label("Delete stroke").click();
+    harness.step();
+    harness.step();
+    assert!(harness.state().document().strokes().is_empty());
+    assert_eq!(harness.state().view.selection, None);
+    harness.get_by_label("Undo").click();
+    harness.step();
+    wait_for_fits(&mut harness);
+    assert_eq!(harness.state().document().strokes().len(), 1);
+}

@@ -547,3 +547,31 @@ fn the_curve_reader_dispatches_on_format_and_version() {
         Err(CurveFormatError::Json(_))
     ));
 }
+
+#[test]
+fn a_piece_fitted_to_its_own_tolerance_says_so_and_validates() {
+    // Two fits of a fixture at different tolerances in one output (as the app exports strokes
+    // with their own settings): the file states the smaller, the other pieces carry theirs, and
+    // the document validates and round trips.
+    let (_, _, file, _) = &fixtures()[0];
+    let fine = 0.5 * file.units.default_tolerance();
+    let coarse = 2.0 * file.units.default_tolerance();
+    let at = |tolerance: f64| {
+        fit_file(file, &PipelineOptions::default().with_tolerance(tolerance)).expect("fit")
+    };
+    let (a, b) = (at(fine), at(coarse));
+    let output = FitOutput {
+        units: file.units,
+        tolerance: fine,
+        curves: a.curves.iter().chain(&b.curves).cloned().collect(),
+    };
+    let doc = CurveFile::from_output(&output);
+    assert_eq!(doc.tolerance, fine);
+    let (first, second) = doc.curves.split_at(a.curves.len());
+    assert!(first.iter().all(|c| c.tolerance.is_none()));
+    assert!(second.iter().all(|c| c.tolerance == Some(coarse)));
+    let json: serde_json::Value = serde_json::from_str(&doc.to_json()).expect("JSON");
+    let problems = errors(&validator(CURVE_SCHEMA_V1), &json);
+    assert!(problems.is_empty(), "{problems:?}");
+    assert_eq!(CurveFile::from_json(&doc.to_json()).expect("reads"), doc);
+}

@@ -64,6 +64,9 @@ struct LiveStroke {
     points: Vec<Point>,
 }
 
+/// How near a click must be to a segment to select it, points.
+pub const PICK_RADIUS_POINTS: f64 = 8.0;
+
 /// The canvas's runtime state (none of it is saved).
 #[derive(Default)]
 pub struct Canvas {
@@ -80,6 +83,9 @@ pub struct Canvas {
     rect: Option<Rect>,
     /// The tablet's stroke in progress, in model units (drawn like the pointer's).
     pub tablet_live: Vec<Point>,
+    /// Where the primary button clicked (pressed and released without drawing) this frame, in
+    /// model units, with the pick radius in model units.
+    click: Option<(Point, f64)>,
 }
 
 impl std::fmt::Debug for Canvas {
@@ -92,6 +98,11 @@ impl std::fmt::Debug for Canvas {
 }
 
 impl Canvas {
+    /// A click of this frame (see the field), taken.
+    pub fn take_click(&mut self) -> Option<(Point, f64)> {
+        self.click.take()
+    }
+
     /// Fit the view to the drawing on the next frame.
     pub fn request_fit(&mut self) {
         self.fit_requested = true;
@@ -168,6 +179,14 @@ impl Canvas {
         self.view = Some(view);
 
         let finished = self.pen(ui, &response, |pos| view.to_model(to_pixel(pos)));
+        self.click = None;
+        if response.clicked()
+            && finished.is_none()
+            && let Some(pos) = response.interact_pointer_pos()
+        {
+            let radius = PICK_RADIUS_POINTS * ppp / view.pixels_per_unit;
+            self.click = Some((view.to_model(to_pixel(pos)), radius));
+        }
         self.paint_texture(ui, &painter, rect, scene, scene_key, options, view);
 
         if let Some(live) = &self.live {

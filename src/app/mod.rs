@@ -370,13 +370,24 @@ impl KanseiApp {
             .collect()
     }
 
+    /// The fits for export. The file's tolerance is the smallest any stroke was fitted to (so
+    /// that export accuracies derived from it suit every stroke); a stroke fitted to another
+    /// carries its own in the curve JSON. With no fits, the new-stroke setting.
     fn output(&self) -> crate::pipeline::FitOutput {
-        let settings = self.view.new_stroke_settings;
-        let tolerance = settings
-            .tolerance
-            .unwrap_or(self.doc.units().default_tolerance());
         // Rebuilt without a replay cut: exports hold every finished fit.
-        SceneData::build(&self.doc, &self.fits, None).output(tolerance)
+        let scene = SceneData::build(&self.doc, &self.fits, None);
+        let tolerance = scene
+            .curves
+            .iter()
+            .map(|c| c.tolerance)
+            .min_by(f64::total_cmp)
+            .unwrap_or_else(|| {
+                self.view
+                    .new_stroke_settings
+                    .tolerance
+                    .unwrap_or(self.doc.units().default_tolerance())
+            });
+        scene.output(tolerance)
     }
 
     fn report_export(&mut self, path: &Path, result: Result<(), crate::cli::CliError>) {
@@ -576,9 +587,27 @@ impl KanseiApp {
                 );
             });
         });
+        let selected = self.selected_stroke();
         egui::Panel::right("kansei-segments").show(ui, |ui| {
+            if let Some(id) = selected
+                && ui
+                    .button("Delete stroke")
+                    .on_hover_text(
+                        "Remove the selected segment's stroke (Delete; undo brings it back)",
+                    )
+                    .clicked()
+            {
+                commands.push(Command::Edit(Edit::RemoveStroke(id)));
+            }
             panels::segment_table(ui, &self.scene, self.view.selection, &mut commands);
         });
+        // Delete removes the selected stroke, unless a text field has the keyboard.
+        if let Some(id) = selected
+            && !ui.ctx().egui_wants_keyboard_input()
+            && ui.input(|i| i.key_pressed(Key::Delete))
+        {
+            commands.push(Command::Edit(Edit::RemoveStroke(id)));
+        }
         if let Some((_, _, series)) = &self.plots {
             egui::Panel::bottom("kansei-plots").show(ui, |ui| {
                 plots::show(ui, series, PLOT_HEIGHT);
@@ -593,6 +622,10 @@ impl KanseiApp {
                     stroke,
                     settings: self.view.new_stroke_settings,
                 }));
+            }
+            // A click selects the segment under it, or clears the selection.
+            if let Some((p, radius)) = self.canvas.take_click() {
+                commands.push(Command::Select(self.scene.pick(p, radius)));
             }
         });
         for command in commands {

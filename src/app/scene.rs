@@ -9,6 +9,10 @@ use crate::pipeline::{CurveFit, FitOutput};
 use crate::render::Scene;
 use crate::stroke::{Stroke, Units};
 
+/// A click's distance to a segment is measured on the segment traced at this fraction of the
+/// pick radius: far finer than a pointer can aim.
+const PICK_CHORD_FRACTION: f64 = 0.1;
+
 /// One selected segment: a stroke, a piece of its fit, a segment of that piece's chain.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct Selection {
@@ -127,6 +131,23 @@ impl SceneData {
                     )
                 })
             })
+    }
+
+    /// The segment nearest to `p` within `radius` (model units), if any: what a click at `p`
+    /// selects. Distances are to the segment traced at a tenth of `radius`.
+    pub fn pick(&self, p: crate::geom::Point, radius: f64) -> Option<Selection> {
+        if !(radius > 0.0 && p.x.is_finite() && p.y.is_finite()) {
+            return None;
+        }
+        let chord = PICK_CHORD_FRACTION * radius;
+        self.segments()
+            .map(|(selection, _, seg)| {
+                let d = crate::lac::rough_deviation(&seg.segment, &[p], chord);
+                (selection, d.max)
+            })
+            .filter(|(_, d)| *d <= radius)
+            .min_by(|a, b| a.1.total_cmp(&b.1))
+            .map(|(selection, _)| selection)
     }
 
     /// The fits as the pipeline's output, for export (`tolerance`: the one reported).

@@ -71,6 +71,10 @@ pub struct CurveEntry {
     /// The log-aesthetic chain's segments, in order; consecutive segments share end point and
     /// tangent (G1). Empty when the LAC stage did not run.
     pub segments: Vec<SegmentRecord>,
+    /// The tolerance this piece was fitted to, when it differs from the file's `tolerance` (the
+    /// app fits each stroke with its own settings); its `within_tolerance` flags refer to it.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub tolerance: Option<f64>,
 }
 
 /// A clamped cubic B-spline and its fit figures.
@@ -231,7 +235,11 @@ impl CurveFile {
             curves: output
                 .curves
                 .iter()
-                .map(|c| CurveEntry::from_fit_with(c, options))
+                .map(|c| {
+                    let mut entry = CurveEntry::from_fit_with(c, options);
+                    entry.tolerance = (c.tolerance != output.tolerance).then_some(c.tolerance);
+                    entry
+                })
                 .collect(),
         }
     }
@@ -372,6 +380,8 @@ impl CurveEntry {
                         .collect()
                 })
                 .unwrap_or_default(),
+            // Set by the document, which knows the file's tolerance.
+            tolerance: None,
         }
     }
 }
