@@ -464,3 +464,66 @@ fn clicking_a_segment_selects_it_and_delete_removes_its_stroke() {
     wait_for_fits(&mut harness);
     assert_eq!(harness.state().document().strokes().len(), 1);
 }
+
+#[test]
+fn the_fit_grows_while_the_pen_moves_and_gives_way_to_the_final_fit() {
+    let mut harness = harness(AppOptions::default());
+    harness.step();
+    let Some(rect) = harness.state().canvas().screen_rect() else {
+        panic!("the canvas was not shown");
+    };
+    let centre = rect.center() + Vec2::new(-40.0, 40.0);
+    let point = |deg: f32| {
+        let a = deg.to_radians();
+        centre + 80.0 * Vec2::new(a.cos(), -a.sin())
+    };
+    harness.event(Event::PointerMoved(point(0.0)));
+    harness.step();
+    harness.event(Event::PointerButton {
+        pos: point(0.0),
+        button: PointerButton::Primary,
+        pressed: true,
+        modifiers: Modifiers::NONE,
+    });
+    harness.step();
+    for deg in (2..=90).step_by(2) {
+        harness.event(Event::PointerMoved(point(deg as f32)));
+        harness.step();
+    }
+    // The button is still down: the stroke so far gets fitted and drawn over the live line.
+    let start = Instant::now();
+    while harness.state().canvas().preview.is_empty() {
+        assert!(start.elapsed() < FIT_DEADLINE, "no growing fit appeared");
+        std::thread::sleep(Duration::from_millis(10));
+        harness.step();
+    }
+    assert!(harness.state().document().strokes().is_empty());
+    // The preview follows the arc drawn so far: every point about 80 points (20 mm) from the
+    // centre in model units, within the pointer's quantisation.
+    let view = harness.state().canvas().view().expect("a view");
+    let c = view.to_model(kansei::geom::Point::new(
+        f64::from(centre.x - rect.min.x),
+        f64::from(centre.y - rect.min.y),
+    ));
+    for (points, _) in &harness.state().canvas().preview {
+        for p in points {
+            let r = p.distance(c) * view.pixels_per_unit;
+            assert!(
+                (r - 80.0).abs() < 2.0,
+                "preview point {r} points from the centre"
+            );
+        }
+    }
+    harness.event(Event::PointerButton {
+        pos: point(90.0),
+        button: PointerButton::Primary,
+        pressed: false,
+        modifiers: Modifiers::NONE,
+    });
+    harness.step();
+    harness.step();
+    assert!(harness.state().canvas().preview.is_empty());
+    wait_for_fits(&mut harness);
+    assert_eq!(harness.state().document().strokes().len(), 1);
+    assert!(segment_count(&harness) >= 1);
+}

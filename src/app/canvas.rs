@@ -64,6 +64,9 @@ struct LiveStroke {
     points: Vec<Point>,
 }
 
+/// Line width of the growing fit drawn while the pen moves, points.
+pub const PREVIEW_WIDTH: f32 = 2.5;
+
 /// How near a click must be to a segment to select it, points.
 pub const PICK_RADIUS_POINTS: f64 = 8.0;
 
@@ -83,6 +86,9 @@ pub struct Canvas {
     rect: Option<Rect>,
     /// The tablet's stroke in progress, in model units (drawn like the pointer's).
     pub tablet_live: Vec<Point>,
+    /// The fit of the stroke being drawn so far, as polylines in model units with their α colour
+    /// (drawn over the live stroke while the pen moves).
+    pub preview: Vec<(Vec<Point>, [u8; 3])>,
     /// Where the primary button clicked (pressed and released without drawing) this frame, in
     /// model units, with the pick radius in model units.
     click: Option<(Point, f64)>,
@@ -98,6 +104,14 @@ impl std::fmt::Debug for Canvas {
 }
 
 impl Canvas {
+    /// The samples of the stroke the pointer is drawing, if any.
+    pub fn live_stroke(&self) -> Option<&Stroke> {
+        self.live
+            .as_ref()
+            .and_then(|l| l.builder.current())
+            .map(|b| &b.stroke)
+    }
+
     /// A click of this frame (see the field), taken.
     pub fn take_click(&mut self) -> Option<(Point, f64)> {
         self.click.take()
@@ -196,6 +210,10 @@ impl Canvas {
         if self.tablet_live.len() >= 2 {
             let line: Vec<Pos2> = self.tablet_live.iter().map(|&p| to_screen(p)).collect();
             painter.line(line, (LIVE_STROKE_WIDTH, LIVE_STROKE_COLOUR));
+        }
+        for (points, [r, g, b]) in &self.preview {
+            let line: Vec<Pos2> = points.iter().map(|&p| to_screen(p)).collect();
+            painter.line(line, (PREVIEW_WIDTH, Color32::from_rgb(*r, *g, *b)));
         }
         if let Some(error) = &self.error {
             painter.text(

@@ -149,6 +149,10 @@ pub struct KanseiApp {
     saved: u64,
     replay: Option<Replay>,
     tablet: Option<tablet::TabletFeed>,
+    /// Fits the stroke being drawn while the pen moves (its own thread: never delays the fits
+    /// of finished strokes).
+    preview_worker: Option<FitWorker>,
+    preview: Preview,
     /// Tablet strokes waiting for a drawing whose units they can join (see
     /// [`KanseiApp::take_tablet_strokes`]).
     tablet_pending: Vec<crate::stroke::Stroke>,
@@ -198,6 +202,11 @@ impl KanseiApp {
             replay: None,
             tablet: None,
             tablet_pending: Vec::new(),
+            preview_worker: {
+                let wake_ctx = ctx.clone();
+                FitWorker::spawn(Box::new(move || wake_ctx.request_repaint())).ok()
+            },
+            preview: Preview::default(),
             plots: None,
         };
         if let Some(choice) = options.tablet {
@@ -514,8 +523,71 @@ impl KanseiApp {
         }
     }
 
+    /// Fits the stroke being drawn (pointer or tablet) as it grows: every
+    /// [`PREVIEW_INTERVAL_S`] with at least [`PREVIEW_NEW_SAMPLES`] new samples, a job for the
+    /// stroke so far goes to the preview worker (a newer job supersedes a queued one), and the
+    /// newest result is drawn over the live stroke until the stroke ends and its real fit
+    /// arrives.
+    fn grow_preview(&mut self, now: f64) {
+        let Some(worker) = &self.preview_worker else {
+            return;
+        };
+        // A result for the current stroke replaces the drawn one.
+        for result in worker.poll() {
+            let current = result.revision >= self.preview.first;
+            if self.preview.active && current && result.revision > self.preview.shown {
+                self.preview.shown = result.revision;
+                if let Ok(curves) = result.outcome {
+                    self.canvas.preview = preview_lines(&curves);
+                }
+            }
+        }
+        let scale = mm_to(self.doc.units()).unwrap_or(1.0);
+        let live = match (self.canvas.live_stroke(), &self.tablet) {
+            (Some(stroke), _) => Some(stroke.clone()),
+            (None, Some(feed)) => feed.live_stroke().map(|mut stroke| {
+                for s in &mut stroke.samples {
+                    s.x *= scale;
+                    s.y *= scale;
+                }
+                stroke
+            }),
+            (None, None) => None,
+        };
+        let Some(stroke) = live else {
+            if self.preview.active {
+                // Results still on their way belong to this stroke: the next one starts after.
+                self.preview = Preview {
+                    first: self.preview.revision + 1,
+                    revision: self.preview.revision,
+                    ..Preview::default()
+                };
+                self.canvas.preview.clear();
+            }
+            return;
+        };
+        self.preview.active = true;
+        let n = stroke.samples.len();
+        let due = now - self.preview.sent_at >= PREVIEW_INTERVAL_S
+            && n >= self.preview.sent_samples + PREVIEW_NEW_SAMPLES
+            && n >= PREVIEW_MIN_SAMPLES;
+        if due {
+            self.preview.revision += 1;
+            self.preview.sent_at = now;
+            self.preview.sent_samples = n;
+            worker.send(worker::FitJob {
+                id: PREVIEW_STROKE,
+                revision: self.preview.revision,
+                stroke,
+                units: self.doc.units(),
+                options: self.view.new_stroke_settings.pipeline_options(),
+            });
+        }
+    }
+
     /// Takes in the fits that have arrived and advances the replay.
     fn logic(&mut self, ctx: &egui::Context) {
+        self.grow_preview(ctx.input(|i| i.time));
         if let Some(worker) = &self.worker {
             for result in worker.poll() {
                 self.fits.accept(result, &self.doc);
@@ -651,6 +723,53 @@ impl KanseiApp {
 }
 
 /// Undo: Ctrl+Z; redo: Ctrl+Shift+Z or Ctrl+Y.
+/// Seconds between fits of the stroke being drawn.
+pub const PREVIEW_INTERVAL_S: f64 = 0.1;
+
+/// New samples needed before the stroke being drawn is fitted again.
+pub const PREVIEW_NEW_SAMPLES: usize = 4;
+
+/// Samples a stroke being drawn needs before its first fit.
+pub const PREVIEW_MIN_SAMPLES: usize = 8;
+
+/// The id the stroke being drawn has in the preview worker (no document stroke has it).
+const PREVIEW_STROKE: StrokeId = StrokeId(u64::MAX);
+
+/// Points per segment of the growing fit's polylines (a segment turns less than a half turn:
+/// 48 points keep each chord within a degree of the curve's direction).
+const PREVIEW_POINTS_PER_SEGMENT: f64 = 48.0;
+
+/// The growing fit's state.
+#[derive(Clone, Debug, Default)]
+struct Preview {
+    /// A stroke is being drawn.
+    active: bool,
+    /// The last job's revision (increasing over all strokes).
+    revision: u64,
+    /// The first revision of the stroke being drawn.
+    first: u64,
+    /// The revision drawn.
+    shown: u64,
+    /// When the last job was sent (egui time, seconds).
+    sent_at: f64,
+    /// Its sample count.
+    sent_samples: usize,
+}
+
+/// The chain segments of `curves` as polylines with their α colours.
+fn preview_lines(curves: &[crate::pipeline::CurveFit]) -> Vec<(Vec<crate::geom::Point>, [u8; 3])> {
+    curves
+        .iter()
+        .filter_map(|c| c.chain.as_ref())
+        .flat_map(|chain| chain.segments.iter())
+        .map(|seg| {
+            let spacing = seg.segment.length() / PREVIEW_POINTS_PER_SEGMENT;
+            let points = seg.segment.samples(spacing).map(|s| s.point).collect();
+            (points, crate::export::alpha_colour(seg.segment.alpha()))
+        })
+        .collect()
+}
+
 /// The factor from millimetres to `units` (`None` for device units, which have no known scale).
 fn mm_to(units: crate::stroke::Units) -> Option<f64> {
     match units {

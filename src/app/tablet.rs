@@ -181,6 +181,15 @@ impl TabletFeed {
         }
     }
 
+    /// The stroke being drawn, in millimetres (`None` between strokes or while the eraser is
+    /// down).
+    pub fn live_stroke(&self) -> Option<Stroke> {
+        match self.builder.current() {
+            Some(run) if run.tool == Tool::Pen => Some(run.stroke.clone()),
+            _ => None,
+        }
+    }
+
     /// Whether the pen is down.
     pub fn is_drawing(&self) -> bool {
         self.builder.current().is_some()
