@@ -527,3 +527,34 @@ fn the_fit_grows_while_the_pen_moves_and_gives_way_to_the_final_fit() {
     assert_eq!(harness.state().document().strokes().len(), 1);
     assert!(segment_count(&harness) >= 1);
 }
+
+#[test]
+fn the_file_chooser_fills_the_path_and_save_writes_there() {
+    let dir = temp_dir("chooser");
+    let target = dir.join("chosen.json");
+    let mut harness = harness(AppOptions::default());
+    draw_arc(&mut harness);
+    wait_for_fits(&mut harness);
+    // The chooser starts in the path field's folder with its file name; choosing keeps both.
+    harness.state_mut().view.path = target.display().to_string();
+    harness.step();
+    harness.get_by_label("Browse…").click();
+    harness.step();
+    harness.step();
+    assert!(harness.state().chooser_open(), "Browse… opens the chooser");
+    // A new window sizes itself on its first frame and shows on the next.
+    harness.step();
+    harness.get_by_label("Up");
+    harness.state_mut().view.path.clear();
+    harness.get_by_label("Choose").click();
+    harness.step();
+    harness.step();
+    assert_eq!(PathBuf::from(&harness.state().view.path), target);
+    assert!(harness.query_by_label("Up").is_none(), "the chooser closed");
+    harness.get_by_label("Save").click();
+    harness.step();
+    let text = std::fs::read_to_string(&target).expect("the drawing was saved where chosen");
+    let saved = kansei::stroke::StrokeFile::from_json(&text).expect("a stroke file");
+    assert_eq!(saved.strokes.len(), 1);
+    let _ = std::fs::remove_dir_all(&dir);
+}

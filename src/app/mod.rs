@@ -8,6 +8,7 @@
 //! replay.rs    Replay: a drawing's strokes at their recorded speed
 //! files.rs     open (any format the CLI reads), save, export, the recovery file
 //! canvas.rs    Canvas: the render texture, pan/zoom, pointer → samples
+//! chooser.rs   Chooser: the file chooser window (drawn by egui)
 //! panels.rs    the side panels: fit settings, overlays, files, replay, the segment table
 //! plots.rs     the selected segment's plots (egui_plot)
 //! tablet.rs    TabletFeed: a live tablet (or a recording played as one) on its own thread
@@ -18,6 +19,7 @@
 //! thread and drawn by the shared [`render`](crate::render) module.
 
 pub mod canvas;
+pub mod chooser;
 pub mod document;
 pub mod files;
 pub mod panels;
@@ -79,6 +81,8 @@ pub enum Command {
     ExportDxf(PathBuf),
     /// Export a PNG through the render module.
     ExportPng(PathBuf),
+    /// Choose the file panel's path in a file chooser.
+    Browse,
     /// Select a segment (or nothing).
     Select(Option<Selection>),
     /// Settings for the selected stroke (refit at once) or, with none selected, for new strokes.
@@ -153,6 +157,8 @@ pub struct KanseiApp {
     /// of finished strokes).
     preview_worker: Option<FitWorker>,
     preview: Preview,
+    /// The file chooser, while open.
+    chooser: Option<chooser::Chooser>,
     /// Tablet strokes waiting for a drawing whose units they can join (see
     /// [`KanseiApp::take_tablet_strokes`]).
     tablet_pending: Vec<crate::stroke::Stroke>,
@@ -207,6 +213,7 @@ impl KanseiApp {
                 FitWorker::spawn(Box::new(move || wake_ctx.request_repaint())).ok()
             },
             preview: Preview::default(),
+            chooser: None,
             plots: None,
         };
         if let Some(choice) = options.tablet {
@@ -338,6 +345,10 @@ impl KanseiApp {
                 self.report_export(&path, result);
             }
             Command::Select(selection) => self.view.selection = selection,
+            Command::Browse => {
+                // Start where the path field points: its folder and file name.
+                self.chooser = Some(chooser::Chooser::new(Path::new(self.view.path.trim())));
+            }
             Command::SetSettings(settings) => match self.selected_stroke() {
                 Some(id) => {
                     if let Err(e) = self.doc.apply(Edit::SetSettings { id, settings }) {
@@ -481,6 +492,11 @@ impl KanseiApp {
                 plots::SegmentPlots::of(fit, segment),
             ))
         });
+    }
+
+    /// Whether the file chooser is open.
+    pub fn chooser_open(&self) -> bool {
+        self.chooser.is_some()
     }
 
     /// The tablet's state, when one was asked for.
@@ -700,6 +716,14 @@ impl KanseiApp {
                 commands.push(Command::Select(self.scene.pick(p, radius)));
             }
         });
+        if let Some(chooser) = &mut self.chooser
+            && let Some(choice) = chooser.show(ui.ctx())
+        {
+            if let chooser::Choice::Chosen(path) = choice {
+                self.view.path = path.display().to_string();
+            }
+            self.chooser = None;
+        }
         for command in commands {
             self.execute(command);
         }

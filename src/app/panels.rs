@@ -230,7 +230,16 @@ pub fn overlays(ui: &mut Ui, o: &mut Overlays) {
 /// A path field with open, save and export buttons.
 pub fn files(ui: &mut Ui, path: &mut String, commands: &mut Vec<Command>) {
     ui.heading("File");
-    ui.add(egui::TextEdit::singleline(path).hint_text("path"));
+    ui.horizontal(|ui| {
+        if ui
+            .button("Browse…")
+            .on_hover_text("Choose the path in a file chooser")
+            .clicked()
+        {
+            commands.push(Command::Browse);
+        }
+        ui.add(egui::TextEdit::singleline(path).hint_text("path"));
+    });
     let target = || PathBuf::from(path.trim());
     let has_path = !path.trim().is_empty();
     ui.horizontal_wrapped(|ui| {
