@@ -15,7 +15,8 @@
 //! for K segments instead of the O(K³) of a dense solve.
 
 use super::band::Band;
-use super::state::{Evaluated, State, cost};
+use super::state::{Evaluated, Joint, State, cost, model_at_feet};
+use crate::geom::Vec2;
 
 /// Options of [`refine`].
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -31,7 +32,9 @@ pub(crate) struct RefineOptions {
 }
 
 /// Finite-difference step on a position, relative to the chain's scale: about √ε of it, the
-/// classic optimum for forward differences of a function exact to rounding.
+/// classic optimum for forward differences of a function exact to rounding (the reference
+/// Jacobian of the tests; the refinement's own takes positions analytically).
+#[cfg(test)]
 const POSITION_STEP: f64 = 1e-7;
 /// Finite-difference step on a tangent angle (radians).
 const ANGLE_STEP: f64 = 1e-7;
@@ -53,7 +56,7 @@ const MAX_TRIES: usize = 8;
 const CONVERGED: f64 = 1e-4;
 
 /// One unknown.
-#[derive(Clone, Copy, Debug)]
+#[derive(Clone, Copy, Debug, PartialEq)]
 enum Unknown {
     X(usize),
     Y(usize),
@@ -98,6 +101,7 @@ fn unknowns(
 }
 
 /// The segments an unknown moves.
+#[cfg(test)]
 fn touched(unknown: Unknown, segments: usize) -> std::ops::Range<usize> {
     match unknown {
         Unknown::X(j) | Unknown::Y(j) | Unknown::Angle(j) => {
@@ -121,6 +125,7 @@ fn add(state: &mut State<'_>, unknown: Unknown, delta: f64, options: &RefineOpti
     }
 }
 
+#[cfg(test)]
 fn step_of(unknown: Unknown, options: &RefineOptions) -> f64 {
     match unknown {
         Unknown::X(_) | Unknown::Y(_) => POSITION_STEP * options.scale,
@@ -145,34 +150,7 @@ pub(crate) fn refine(state: &mut State<'_>, options: &RefineOptions) -> Option<R
     let width = ranges.iter().map(|r| r.len()).max().unwrap_or(1);
     let mut lambda = LAMBDA_START;
     for _ in 0..options.max_iterations {
-        // Jacobian by forward differences, one dense block per segment (rows: its samples,
-        // columns: its range of unknowns).
-        let mut blocks: Vec<Vec<f64>> = current
-            .iter()
-            .zip(&ranges)
-            .map(|(e, r)| vec![0.0; e.residuals.len() * r.len()])
-            .collect();
-        // The residuals of the first-order model at the current state (equal to the exact ones
-        // at exact feet; taken from the model itself so that differences are consistent).
-        let base: Vec<Vec<f64>> = current
-            .iter()
-            .enumerate()
-            .map(|(k, e)| state.model_residuals(k, &e.segment, e))
-            .collect();
-        for (c, &u) in unknowns.iter().enumerate() {
-            let h = step_of(u, options);
-            let mut probe = state.clone();
-            add(&mut probe, u, h, options);
-            for k in touched(u, state.len()) {
-                let Ok(r) = probe.residuals_near(k, &current[k]) else {
-                    continue;
-                };
-                let (cols, col) = (ranges[k].len(), c - ranges[k].start);
-                for (i, (r1, r0)) in r.iter().zip(&base[k]).enumerate() {
-                    blocks[k][i * cols + col] = (r1 - r0) / h;
-                }
-            }
-        }
+        let blocks = jacobian(state, &current, &unknowns, &ranges, options);
         // JᵀJ (band) and Jᵀr, block by block.
         let mut jtj = Band::zeros(unknowns.len(), width.saturating_sub(1));
         let mut jtr = vec![0.0; unknowns.len()];
@@ -232,6 +210,171 @@ pub(crate) fn refine(state: &mut State<'_>, options: &RefineOptions) -> Option<R
     })
 }
 
+/// The Jacobian of the residuals, one dense block per segment (rows: its sample residuals then
+/// its end anchors; columns: its range of unknowns), at the first-order model of the current
+/// state (see [`State::residuals_near`]).
+///
+/// Only three columns per segment need a construction: its two tangent angles and its α, by
+/// forward differences. The four position columns follow from the similarity covariance of the
+/// Yoshida–Saito segment. Moving the start A by δ with B and both tangents held splits δ into
+/// u along ê = (A − B)/|A − B| and v along n̂ = ê rotated by 90°: the u part scales the segment
+/// about B by σ = u/|A − B| (the tangents are unchanged, so the scaled segment is the new one);
+/// the v part rotates it about B by ω = v/|A − B|, which also turns both tangents by ω, undone
+/// by turning them back by −ω. At a sample row with curve point P and measuring direction d
+/// (the first-order model moves the foot along the curve, which leaves the residual unchanged to
+/// first order), the column is therefore
+///
+/// ∂r/∂δ = −(σ·(P − B) + ω·J(P − B))·d − ω·(∂r/∂θ_A + ∂r/∂θ_B),
+///
+/// J the quarter turn, and likewise for the end B about A. The end anchors (q − A)·T_A are
+/// differentiated exactly: −T_A for the position, (q − A)·N_A for the angle. Seven
+/// constructions per segment and iteration become three.
+fn jacobian(
+    state: &State<'_>,
+    current: &[Evaluated],
+    unknowns: &[Unknown],
+    ranges: &[std::ops::Range<usize>],
+    options: &RefineOptions,
+) -> Vec<Vec<f64>> {
+    let quarter = |v: Vec2| Vec2::new(-v.y, v.x);
+    current
+        .iter()
+        .enumerate()
+        .map(|(k, e)| {
+            let range = ranges[k].clone();
+            let cols = range.len();
+            let column = |u: Unknown| {
+                range
+                    .clone()
+                    .find(|&c| unknowns[c] == u)
+                    .map(|c| c - range.start)
+            };
+            let points = state.points_of(k);
+            let model = model_at_feet(&e.segment, &points, e);
+            let anchors = state.anchors(k);
+            let rows = model.len() + anchors.len();
+            let mut block = vec![0.0; rows * cols];
+            let (a, b, alpha) = (state.joints[k], state.joints[k + 1], state.alphas[k]);
+            // Forward differences of the sample rows (zero where the probe cannot be built).
+            let difference = |pa: Joint, pb: Joint, palpha: f64, h: f64| -> Vec<f64> {
+                match state.sample_residuals_with(k, &pa, &pb, palpha, e) {
+                    Ok(r) => r
+                        .iter()
+                        .zip(&model)
+                        .map(|(r1, m)| (r1 - m.residual) / h)
+                        .collect(),
+                    Err(_) => vec![0.0; model.len()],
+                }
+            };
+            let turned = |j: Joint| Joint {
+                angle: j.angle + ANGLE_STEP,
+                ..j
+            };
+            let d_theta_a = difference(turned(a), b, alpha, ANGLE_STEP);
+            let d_theta_b = difference(a, turned(b), alpha, ANGLE_STEP);
+            let mut put = |col: Option<usize>, values: &[f64]| {
+                if let Some(c) = col {
+                    for (i, v) in values.iter().enumerate() {
+                        block[i * cols + c] = *v;
+                    }
+                }
+            };
+            put(column(Unknown::Angle(k)), &d_theta_a);
+            put(column(Unknown::Angle(k + 1)), &d_theta_b);
+            if let Some(c) = column(Unknown::Alpha(k)) {
+                // A step that the range would clip is taken backwards instead.
+                let (lo, hi) = options
+                    .alpha_range
+                    .unwrap_or((f64::NEG_INFINITY, f64::INFINITY));
+                let h = if alpha + ALPHA_STEP <= hi || alpha - ALPHA_STEP < lo {
+                    ALPHA_STEP
+                } else {
+                    -ALPHA_STEP
+                };
+                put(Some(c), &difference(a, b, alpha + h, h));
+            }
+            // Positions, from the similarity covariance (see the function doc).
+            let length = a.p.distance(b.p);
+            if length > 0.0 {
+                for (j, moving, pivot) in [(k, a.p, b.p), (k + 1, b.p, a.p)] {
+                    let e_hat = (moving - pivot) * (1.0 / length);
+                    let n_hat = quarter(e_hat);
+                    for (u, delta) in [
+                        (Unknown::X(j), Vec2::new(1.0, 0.0)),
+                        (Unknown::Y(j), Vec2::new(0.0, 1.0)),
+                    ] {
+                        let Some(c) = column(u) else {
+                            continue;
+                        };
+                        let sigma = e_hat.dot(delta) / length;
+                        let omega = n_hat.dot(delta) / length;
+                        for (i, m) in model.iter().enumerate() {
+                            let arm = m.point - pivot;
+                            let moved = arm * sigma + quarter(arm) * omega;
+                            block[i * cols + c] =
+                                -moved.dot(m.direction) - omega * (d_theta_a[i] + d_theta_b[i]);
+                        }
+                    }
+                }
+            }
+            // End anchors: (q − P_j)·T_j.
+            for (n, (j, q)) in anchors.iter().enumerate() {
+                let row = model.len() + n;
+                let joint = state.joints[*j];
+                let tangent = joint.tangent();
+                let normal = quarter(tangent);
+                for (u, value) in [
+                    (Unknown::X(*j), -tangent.x),
+                    (Unknown::Y(*j), -tangent.y),
+                    (Unknown::Angle(*j), (*q - joint.p).dot(normal)),
+                ] {
+                    if let Some(c) = column(u) {
+                        block[row * cols + c] = value;
+                    }
+                }
+            }
+            block
+        })
+        .collect()
+}
+
+/// The Jacobian of [`jacobian`] by forward differences in every unknown (each probe builds the
+/// segments the unknown moves): the reference the fast form is tested against.
+#[cfg(test)]
+fn jacobian_by_differences(
+    state: &State<'_>,
+    current: &[Evaluated],
+    unknowns: &[Unknown],
+    ranges: &[std::ops::Range<usize>],
+    options: &RefineOptions,
+) -> Vec<Vec<f64>> {
+    let mut blocks: Vec<Vec<f64>> = current
+        .iter()
+        .zip(ranges)
+        .map(|(e, r)| vec![0.0; e.residuals.len() * r.len()])
+        .collect();
+    let base: Vec<Vec<f64>> = current
+        .iter()
+        .enumerate()
+        .map(|(k, e)| state.model_residuals(k, &e.segment, e))
+        .collect();
+    for (c, &u) in unknowns.iter().enumerate() {
+        let h = step_of(u, options);
+        let mut probe = state.clone();
+        add(&mut probe, u, h, options);
+        for k in touched(u, state.len()) {
+            let Ok(r) = probe.residuals_near(k, &current[k]) else {
+                continue;
+            };
+            let (cols, col) = (ranges[k].len(), c - ranges[k].start);
+            for (i, (r1, r0)) in r.iter().zip(&base[k]).enumerate() {
+                blocks[k][i * cols + col] = (r1 - r0) / h;
+            }
+        }
+    }
+    blocks
+}
+
 /// The largest sample distance of an evaluated chain.
 fn max_distance(evaluated: &[Evaluated]) -> f64 {
     evaluated.iter().map(|e| e.max).fold(0.0, f64::max)
@@ -244,4 +387,89 @@ pub(crate) struct Refined {
     pub start_max: f64,
     /// After.
     pub end_max: f64,
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::chain::JointKind;
+    use crate::geom::Point;
+    use crate::lac::LacSegment;
+
+    /// A two-segment chain with noisy samples and joints moved off the data.
+    fn points_and_state() -> (Vec<Point>, Vec<Joint>, Vec<f64>, Vec<Vec<usize>>) {
+        let s0 = LacSegment::new(Point::new(0.0, 0.0), 0.3, 40.0, Some(0.5), 0.05, 0.02)
+            .expect("segment");
+        let s1 =
+            LacSegment::new(s0.end(), s0.theta1(), 30.0, Some(-1.0), 0.02, 0.004).expect("segment");
+        let mut points = Vec::new();
+        let mut samples = vec![Vec::new(), Vec::new()];
+        for (k, seg) in [s0, s1].iter().enumerate() {
+            for i in 0..25 {
+                let s = seg.length() * (i as f64 + 0.5) / 25.0;
+                let th = seg.theta(s);
+                let offset = 0.03 * if i % 2 == 0 { 1.0 } else { -0.7 };
+                samples[k].push(points.len());
+                points.push(seg.point(s) + Vec2::new(-th.sin(), th.cos()) * offset);
+            }
+        }
+        let joint = |p: Point, angle: f64, kind: JointKind| Joint {
+            p,
+            angle,
+            kind,
+            fixed: false,
+        };
+        let joints = vec![
+            joint(Point::new(0.1, -0.05), 0.31, JointKind::Start),
+            joint(
+                s0.end() + Vec2::new(0.05, 0.04),
+                s0.theta1() - 0.01,
+                JointKind::CurvatureExtremum,
+            ),
+            joint(
+                s1.end() + Vec2::new(-0.03, 0.02),
+                s1.theta1() + 0.02,
+                JointKind::End,
+            ),
+        ];
+        (points, joints, vec![0.45, -0.9], samples)
+    }
+
+    #[test]
+    fn the_fast_jacobian_matches_forward_differences() {
+        let (points, joints, alphas, samples) = points_and_state();
+        let state = State {
+            points: &points,
+            joints,
+            alphas,
+            samples,
+            max_curvature: f64::INFINITY,
+        };
+        let options = RefineOptions {
+            max_iterations: 1,
+            alpha_range: Some((-3.0, 3.0)),
+            chord_error: 1e-4,
+            scale: 70.0,
+        };
+        let current = state.evaluate_all(options.chord_error).expect("evaluates");
+        let (unknowns, ranges) = unknowns(&state, &options);
+        let fast = jacobian(&state, &current, &unknowns, &ranges, &options);
+        let slow = jacobian_by_differences(&state, &current, &unknowns, &ranges, &options);
+        for (k, (f, d)) in fast.iter().zip(&slow).enumerate() {
+            let cols = ranges[k].len();
+            for c in 0..cols {
+                let column =
+                    |b: &[f64]| b.iter().skip(c).step_by(cols).copied().collect::<Vec<_>>();
+                let (fc, dc) = (column(f), column(d));
+                let scale = dc.iter().fold(0.0f64, |m, x| m.max(x.abs()));
+                for (i, (x, y)) in fc.iter().zip(&dc).enumerate() {
+                    assert!(
+                        (x - y).abs() <= 1e-4 * scale + 1e-6,
+                        "segment {k}, unknown {:?}, row {i}: {x} vs {y}",
+                        unknowns[ranges[k].start + c]
+                    );
+                }
+            }
+        }
+    }
 }

@@ -134,6 +134,7 @@ impl State<'_> {
     /// changed curve by second-order terms: enough for a finite-difference Jacobian, at the cost
     /// of one point per sample instead of a traced polyline. Feet clamped at an end (the sample
     /// lies beyond it) are measured by the distance to the end point, with the old side.
+    #[cfg(test)]
     pub fn residuals_near(&self, k: usize, near: &Evaluated) -> Result<Vec<f64>, LacError> {
         let segment = self.segment_near(k, Some(&near.segment))?;
         Ok(self.model_residuals(k, &segment, near))
@@ -142,10 +143,38 @@ impl State<'_> {
     /// The first-order residuals of [`State::residuals_near`] for a given `segment` in place of
     /// segment `k`, end anchors included (the refinement also takes them at the current state,
     /// where `segment` is `near`'s own).
+    #[cfg(test)]
     pub fn model_residuals(&self, k: usize, segment: &LacSegment, near: &Evaluated) -> Vec<f64> {
         let mut residuals = residuals_at_feet(segment, &self.points_of(k), near);
         residuals.extend(self.end_anchors(k));
         residuals
+    }
+
+    /// Segment `k`'s sample rows of the first-order model (no end anchors) with its joints
+    /// and α replaced by `a`, `b`, `alpha` (a probe of the refinement's Jacobian), the
+    /// construction warm-started from `near`'s segment.
+    pub fn sample_residuals_with(
+        &self,
+        k: usize,
+        a: &Joint,
+        b: &Joint,
+        alpha: f64,
+        near: &Evaluated,
+    ) -> Result<Vec<f64>, LacError> {
+        let segment = fit_g1_near(
+            a.p,
+            a.tangent(),
+            b.p,
+            b.tangent(),
+            alpha,
+            Some(&near.segment),
+        )?;
+        if !within(&segment, self.max_curvature) {
+            return Err(LacError::CurvatureTooHigh {
+                limit: self.max_curvature,
+            });
+        }
+        Ok(residuals_at_feet(&segment, &self.points_of(k), near))
     }
 
     /// The extra residuals that pin the chain's free ends to the data: for the first segment
@@ -156,6 +185,17 @@ impl State<'_> {
     /// these rows hold each end at its end sample's foot. They count in the least-squares cost,
     /// not in the reported distances.
     pub fn end_anchors(&self, k: usize) -> Vec<f64> {
+        self.anchors(k)
+            .into_iter()
+            .map(|(j, q)| {
+                let joint = &self.joints[j];
+                (q - joint.p).dot(joint.tangent())
+            })
+            .collect()
+    }
+
+    /// The end anchors of segment `k` (see [`State::end_anchors`]) as (joint index, sample).
+    pub fn anchors(&self, k: usize) -> Vec<(usize, Point)> {
         let mut out = Vec::new();
         let Some(samples) = self.samples.get(k) else {
             return out;
@@ -164,13 +204,14 @@ impl State<'_> {
             && let (Some(&first), Some(joint)) = (samples.first(), self.joints.first())
             && joint.kind == JointKind::Start
         {
-            out.push((self.points[first] - joint.p).dot(joint.tangent()));
+            out.push((0, self.points[first]));
         }
+        let last_joint = self.joints.len().saturating_sub(1);
         if k + 1 == self.len()
             && let (Some(&last), Some(joint)) = (samples.last(), self.joints.last())
             && joint.kind == JointKind::End
         {
-            out.push((self.points[last] - joint.p).dot(joint.tangent()));
+            out.push((last_joint, self.points[last]));
         }
         out
     }
@@ -235,6 +276,32 @@ pub(crate) fn cost(evaluated: &[Evaluated]) -> f64 {
 
 /// The first-order residual model of [`State::residuals_near`] for `segment`.
 fn residuals_at_feet(segment: &LacSegment, points: &[Point], near: &Evaluated) -> Vec<f64> {
+    model_at_feet(segment, points, near)
+        .into_iter()
+        .map(|m| m.residual)
+        .collect()
+}
+
+/// One sample row of the first-order model: the residual, the curve point it is measured from,
+/// and the unit direction it is measured along (the normal at an interior foot; from the point
+/// towards the sample, signed like the residual, at a foot clamped to an end). A small
+/// displacement δP of the curve near the foot changes the residual by −δP·direction.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct FootModel {
+    /// The residual.
+    pub residual: f64,
+    /// The curve point at the foot.
+    pub point: Point,
+    /// The direction the residual is measured along.
+    pub direction: Vec2,
+}
+
+/// The first-order model of [`State::residuals_near`] for `segment`, row by row.
+pub(crate) fn model_at_feet(
+    segment: &LacSegment,
+    points: &[Point],
+    near: &Evaluated,
+) -> Vec<FootModel> {
     let old_length = near.segment.length();
     points
         .iter()
@@ -243,10 +310,24 @@ fn residuals_at_feet(segment: &LacSegment, points: &[Point], near: &Evaluated) -
         .map(|((q, &foot), &r)| {
             let sample = segment.sample(foot);
             if foot <= 0.0 || foot >= old_length {
-                q.distance(sample.point).copysign(r)
+                let distance = q.distance(sample.point);
+                let direction = if distance > 0.0 {
+                    (*q - sample.point) * (1.0f64.copysign(r) / distance)
+                } else {
+                    Vec2::ZERO
+                };
+                FootModel {
+                    residual: distance.copysign(r),
+                    point: sample.point,
+                    direction,
+                }
             } else {
                 let normal = Vec2::new(-sample.theta.sin(), sample.theta.cos());
-                (*q - sample.point).dot(normal)
+                FootModel {
+                    residual: (*q - sample.point).dot(normal),
+                    point: sample.point,
+                    direction: normal,
+                }
             }
         })
         .collect()
