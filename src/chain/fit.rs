@@ -360,6 +360,7 @@ impl<'a> Fitter<'a> {
                 alphas,
                 samples,
                 max_curvature: self.max_curvature,
+                memo: Default::default(),
             },
             searches,
         ))

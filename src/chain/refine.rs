@@ -444,6 +444,7 @@ mod tests {
             alphas,
             samples,
             max_curvature: f64::INFINITY,
+            memo: Default::default(),
         };
         let options = RefineOptions {
             max_iterations: 1,

@@ -1,7 +1,12 @@
 //! The chain as unknowns: joints (position, tangent angle) and one α per segment. Every segment
 //! is the Yoshida–Saito segment of its two joints ([`crate::lac::fit_g1`]), so any state is G1.
 
+use std::cell::RefCell;
+use std::collections::HashMap;
+use std::rc::Rc;
+
 use crate::geom::{Point, Vec2};
+use crate::lac::deviation::points_at;
 use crate::lac::{LacError, LacSegment, deviation, fit_g1_near, within};
 
 use super::JointKind;
@@ -40,6 +45,32 @@ pub(crate) struct State<'a> {
     pub samples: Vec<Vec<usize>>,
     /// Segments curving more than this are not allowed (see the chain's minimum radius).
     pub max_curvature: f64,
+    /// Segments and evaluations already computed, shared by the clones of a state (see
+    /// [`Memo`]).
+    pub memo: Memo,
+}
+
+/// A segment's data: both joints' position and angle and its α, as bits.
+type SegmentKey = [u64; 7];
+
+/// An evaluation's data: the segment's, its samples, the chord error's bits, and which end
+/// anchors its residuals carry (joint index, sample index).
+type EvaluationKey = (SegmentKey, Vec<usize>, u64, Vec<(usize, u64, u64)>);
+
+/// What the fitting steps have built, by their exact data: the same segment between the same
+/// joints is asked for again and again (repair, subdivision, every refinement's start, merging,
+/// the final measure), and building it is a Yoshida–Saito solve, measuring it a trace and a
+/// projection. Shared by a state's clones (trial states included: a rejected trial's entries are
+/// simply never asked for again); the result is the same as building afresh, to the solver's
+/// tolerance.
+#[derive(Clone, Debug, Default)]
+pub(crate) struct Memo(Rc<RefCell<MemoTables>>);
+
+#[derive(Debug, Default)]
+struct MemoTables {
+    segments: HashMap<SegmentKey, Result<LacSegment, LacError>>,
+    /// By segment data, samples, chord error (bits) and the end anchors the residuals carry.
+    evaluations: HashMap<EvaluationKey, Evaluated>,
 }
 
 /// Signed distances of a segment's samples (the LM residuals).
@@ -73,15 +104,53 @@ impl State<'_> {
         k: usize,
         near: Option<&LacSegment>,
     ) -> Result<LacSegment, LacError> {
-        let (a, b) = (self.joints[k], self.joints[k + 1]);
-        let segment = fit_g1_near(a.p, a.tangent(), b.p, b.tangent(), self.alphas[k], near)?;
-        if within(&segment, self.max_curvature) {
-            Ok(segment)
-        } else {
-            Err(LacError::CurvatureTooHigh {
-                limit: self.max_curvature,
-            })
+        let key = self.key(k);
+        if let Some(known) = self.memo.0.borrow().segments.get(&key) {
+            return known.clone();
         }
+        let (a, b) = (self.joints[k], self.joints[k + 1]);
+        let built = fit_g1_near(a.p, a.tangent(), b.p, b.tangent(), self.alphas[k], near).and_then(
+            |segment| {
+                if within(&segment, self.max_curvature) {
+                    Ok(segment)
+                } else {
+                    Err(LacError::CurvatureTooHigh {
+                        limit: self.max_curvature,
+                    })
+                }
+            },
+        );
+        self.memo.0.borrow_mut().segments.insert(key, built.clone());
+        built
+    }
+
+    /// Segment `k`'s evaluation as a memo key.
+    fn evaluation_key(&self, k: usize, chord_error: f64) -> EvaluationKey {
+        let anchors = self
+            .anchors(k)
+            .into_iter()
+            .map(|(j, q)| (j, q.x.to_bits(), q.y.to_bits()))
+            .collect();
+        (
+            self.key(k),
+            self.samples[k].clone(),
+            chord_error.to_bits(),
+            anchors,
+        )
+    }
+
+    /// Segment `k`'s data as a memo key.
+    fn key(&self, k: usize) -> SegmentKey {
+        let (a, b) = (self.joints[k], self.joints[k + 1]);
+        [
+            a.p.x.to_bits(),
+            a.p.y.to_bits(),
+            a.angle.to_bits(),
+            b.p.x.to_bits(),
+            b.p.y.to_bits(),
+            b.angle.to_bits(),
+            self.alphas[k].to_bits(),
+        ]
     }
 
     /// Segment `k` and its samples' signed distances (exact foot points; `chord_error` only sets
@@ -97,8 +166,18 @@ impl State<'_> {
         chord_error: f64,
         near: Option<&LacSegment>,
     ) -> Result<Evaluated, LacError> {
+        let memo_key = self.evaluation_key(k, chord_error);
+        if let Some(known) = self.memo.0.borrow().evaluations.get(&memo_key) {
+            return Ok(known.clone());
+        }
         let segment = self.segment_near(k, near)?;
-        Ok(self.measure(k, segment, chord_error))
+        let evaluated = self.measure(k, segment, chord_error);
+        self.memo
+            .0
+            .borrow_mut()
+            .evaluations
+            .insert(memo_key, evaluated.clone());
+        Ok(evaluated)
     }
 
     /// Segment `k`'s samples measured against `segment` (built from the state's data for `k`).
@@ -258,7 +337,16 @@ impl State<'_> {
             .zip(evaluated)
             .enumerate()
             .map(|(k, (segment, old))| match segment {
-                Some(segment) => self.measure(k, segment, chord_error),
+                Some(segment) => {
+                    let evaluated = self.measure(k, segment, chord_error);
+                    let memo_key = self.evaluation_key(k, chord_error);
+                    self.memo
+                        .0
+                        .borrow_mut()
+                        .evaluations
+                        .insert(memo_key, evaluated.clone());
+                    evaluated
+                }
                 None => old.clone(),
             })
             .collect())
@@ -303,29 +391,31 @@ pub(crate) fn model_at_feet(
     near: &Evaluated,
 ) -> Vec<FootModel> {
     let old_length = near.segment.length();
+    let on_curve = points_at(segment, &near.feet);
     points
         .iter()
         .zip(&near.feet)
         .zip(&near.residuals)
-        .map(|((q, &foot), &r)| {
-            let sample = segment.sample(foot);
+        .zip(on_curve)
+        .map(|(((q, &foot), &r), point)| {
             if foot <= 0.0 || foot >= old_length {
-                let distance = q.distance(sample.point);
+                let distance = q.distance(point);
                 let direction = if distance > 0.0 {
-                    (*q - sample.point) * (1.0f64.copysign(r) / distance)
+                    (*q - point) * (1.0f64.copysign(r) / distance)
                 } else {
                     Vec2::ZERO
                 };
                 FootModel {
                     residual: distance.copysign(r),
-                    point: sample.point,
+                    point,
                     direction,
                 }
             } else {
-                let normal = Vec2::new(-sample.theta.sin(), sample.theta.cos());
+                let theta = segment.theta(foot);
+                let normal = Vec2::new(-theta.sin(), theta.cos());
                 FootModel {
-                    residual: (*q - sample.point).dot(normal),
-                    point: sample.point,
+                    residual: (*q - point).dot(normal),
+                    point,
                     direction: normal,
                 }
             }
