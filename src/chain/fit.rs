@@ -6,9 +6,7 @@ use crate::bspline::BSpline;
 use crate::bspline::project::Pieces;
 use crate::geom::{Point, Vec2};
 use crate::lac::lcg::{lcg_of_bezier_span, lcg_slope};
-use crate::lac::{
-    AlphaChoice, AlphaSearch, LacError, LacSegment, biarc, deviation, fit_span, fit_span_from,
-};
+use crate::lac::{AlphaChoice, AlphaSearch, LacError, LacSegment, biarc, deviation, fit_span};
 use crate::split::{Spans, SplitKind};
 
 /// Distances are seeded on a polyline whose chord error is this fraction of the tolerance, then
@@ -285,7 +283,7 @@ impl<'a> Fitter<'a> {
 
     /// The α search between two joints for the given samples (B-spline points on `[u0, u1]`
     /// stand in when there are too few samples), walking from `guess` when there is one (see
-    /// [`fit_span_from`]).
+    /// [`fit_span`]).
     fn search(
         &self,
         a: &Joint,
@@ -304,7 +302,7 @@ impl<'a> Fitter<'a> {
                 })
                 .collect()
         };
-        let fit = fit_span_from(
+        let fit = fit_span(
             a.p,
             a.tangent(),
             b.p,
@@ -467,6 +465,7 @@ impl<'a> Fitter<'a> {
                 self.options.alpha,
                 self.chord_error,
                 self.max_curvature,
+                None,
             ) {
                 state.alphas[k] = fit.segment.alpha().unwrap_or(middle);
                 searches[k] = fit.search;

@@ -9,7 +9,7 @@
 //! it to [`ALPHA_TOLERANCE`]. This replaces the seed paper's choice among a few fixed α values.
 //!
 //! With a starting guess (the slope of the span's logarithmic curvature graph, or the α of the
-//! segment a span was cut from or merged out of: [`fit_span_from`]) the grid is replaced by a
+//! segment a span was cut from or merged out of: [`fit_span`]'s `guess`) the grid is replaced by a
 //! walk: cells of [`GRID_STEP`] are stepped downhill from the guess until the objective rises,
 //! and Brent takes the two cells around the lowest point. A good guess costs three evaluations
 //! instead of the grid's thirteen; a walk that finds nothing finite falls back to the grid.
@@ -120,35 +120,10 @@ pub struct SpanFit {
 /// Fits the best LAC segment (see the module doc) through `a` (tangent `ta`) and `b` (tangent
 /// `tb`) to `samples`, ordered from `a` to `b`. Distances are exact to `chord_error`. Segments
 /// whose curvature anywhere exceeds `max_curvature` in magnitude count as infeasible (pass
-/// `f64::INFINITY` for no limit).
-pub fn fit_span(
-    a: Point,
-    ta: Vec2,
-    b: Point,
-    tb: Vec2,
-    samples: &[Point],
-    choice: AlphaChoice,
-    chord_error: f64,
-    max_curvature: f64,
-) -> Result<SpanFit, LacError> {
-    fit_span_from(
-        a,
-        ta,
-        b,
-        tb,
-        samples,
-        choice,
-        chord_error,
-        max_curvature,
-        None,
-    )
-}
-
-/// [`fit_span`] starting from a guess of α (see the module doc): the search walks from `guess`
-/// (clamped to the range; ignored when not finite) instead of scanning the whole grid. `None`
-/// is [`fit_span`].
+/// `f64::INFINITY` for no limit). With a `guess` of α (clamped to the range; ignored when not
+/// finite) the search walks from it instead of scanning the whole grid.
 #[allow(clippy::too_many_arguments)]
-pub fn fit_span_from(
+pub fn fit_span(
     a: Point,
     ta: Vec2,
     b: Point,

@@ -14,7 +14,7 @@
 //! * [`segment`]: the canonical segment record ([`LacSegment`], JSON via serde) and its evaluation,
 //!   including the rendering fast path [`LacSegment::samples`].
 //! * [`yoshida_saito`]: the segment of a given α joining G1 end data ([`fit_g1`]).
-//! * [`alpha_search`]: the best α for a span (grid, then Brent), [`fit_span`].
+//! * [`alpha_search`]: the best α for a span (a walk from a guess or a grid, then Brent), [`fit_span`].
 //! * [`mod@biarc`]: two circular arcs joining G1 data, the fallback where no LAC can.
 //! * [`mod@deviation`]: distances from a span's samples to a segment.
 //! * [`minimize`]: Brent's scalar minimisation (the α search).
@@ -35,7 +35,7 @@ mod special;
 pub mod standard;
 pub mod yoshida_saito;
 
-pub use alpha_search::{AlphaChoice, AlphaSearch, SpanFit, fit_span, fit_span_from, within};
+pub use alpha_search::{AlphaChoice, AlphaSearch, SpanFit, fit_span, within};
 pub use biarc::biarc;
 pub use deviation::{Deviation, deviation, rough_deviation};
 pub use error::LacError;
