@@ -55,11 +55,11 @@ const FOOT_STEP_TOLERANCE: f64 = 1e-9;
 /// it), and the polish integrates from the nearest vertex in steps short enough for any spacing
 /// ([`POLISH_STEP_TURN`]), so a coarser seed costs √10 ≈ 3 times fewer vertices for the same
 /// exact answer.
-const SEED_CHORD_FACTOR: f64 = 10.0;
+pub const SEED_CHORD_FACTOR: f64 = 10.0;
 
 /// Largest turning (radians) of one 3-point Gauss–Legendre step of the polish: the rule's error
 /// is about h·(κh)⁶/2·10⁶, below 1e-12 of the step at 0.1 rad.
-const POLISH_STEP_TURN: f64 = 0.1;
+pub const POLISH_STEP_TURN: f64 = 0.1;
 
 /// Most steps of one integration between vertices or to a foot (the step count follows the
 /// curvature; this bounds the work where [`MAX_VERTICES`] forces a coarse spacing near an

@@ -68,7 +68,7 @@ pub const GL11_MAX_SIZE: f64 = 3.0;
 /// 2^{2n+1}(n!)⁴/((2n+1)((2n)!)³)·|z|^{2n}, with |z| = g/2: 8 nodes at g = 1.5 give 2e-20,
 /// 11 nodes at g = 3 give 5e-24, 16 nodes at the panel limits (g = 6) 5e-30. Pen spans are
 /// mostly one panel of g ≤ 1.5, so half the nodes of a fixed 16-node rule.
-fn rule_for(size: f64) -> &'static [(f64, f64)] {
+pub fn rule_for(size: f64) -> &'static [(f64, f64)] {
     if size <= GL8_MAX_SIZE {
         GAUSS_LEGENDRE_COEFFS_8
     } else if size <= GL11_MAX_SIZE {
