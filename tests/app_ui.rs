@@ -89,6 +89,17 @@ fn draw_arc(harness: &mut Harness<'static, KanseiApp>) {
     harness.step();
 }
 
+/// Samples the canvas shows (a replay shows them as their time comes).
+fn shown_samples(harness: &Harness<'static, KanseiApp>) -> usize {
+    harness
+        .state()
+        .scene()
+        .strokes
+        .iter()
+        .map(|s| s.samples.len())
+        .sum()
+}
+
 fn segment_count(harness: &Harness<'static, KanseiApp>) -> usize {
     harness.state().scene().segments().count()
 }
@@ -253,26 +264,14 @@ fn an_opened_fixture_is_fitted_and_replayed() {
         .iter()
         .map(|s| s.stroke.samples.len())
         .sum();
-    let shown: usize = harness
-        .state()
-        .scene()
-        .strokes
-        .iter()
-        .map(|s| s.samples.len())
-        .sum();
+    let shown = shown_samples(&harness);
     assert!(
         shown < total,
         "{shown} of {total} samples shown at the replay's start"
     );
     harness.get_by_label("Stop").click();
     wait_for_fits(&mut harness);
-    let shown: usize = harness
-        .state()
-        .scene()
-        .strokes
-        .iter()
-        .map(|s| s.samples.len())
-        .sum();
+    let shown = shown_samples(&harness);
     assert_eq!(shown, total);
     assert!(segment_count(&harness) >= 1);
 }

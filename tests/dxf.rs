@@ -64,13 +64,7 @@ fn millimetre_strokes_say_millimetres_and_read_back_within_the_accuracy() {
             drawing.header.default_drawing_units,
             dxf::enums::Units::Millimeters
         );
-        let splines: Vec<&dxf::entities::Spline> = drawing
-            .entities()
-            .filter_map(|e| match &e.specific {
-                dxf::entities::EntityType::Spline(s) => Some(s),
-                _ => None,
-            })
-            .collect();
+        let splines = common::export::dxf_splines(&drawing);
         let chain = out.curves[0].chain.as_ref().expect("chain");
         assert_eq!(splines.len(), 1);
         let s = splines[0];

@@ -213,13 +213,7 @@ fn dxf_splines_read_back_lie_within_the_accuracy_of_the_chain() {
             drawing.header.default_drawing_units, expected_units,
             "{name}"
         );
-        let splines: Vec<&dxf::entities::Spline> = drawing
-            .entities()
-            .filter_map(|e| match &e.specific {
-                dxf::entities::EntityType::Spline(s) => Some(s),
-                _ => None,
-            })
-            .collect();
+        let splines = common::export::dxf_splines(&drawing);
         let chains = chains(out);
         assert_eq!(splines.len(), chains.len(), "{name}");
         assert_eq!(export.splines.len(), chains.len());

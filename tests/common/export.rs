@@ -393,3 +393,14 @@ pub fn two_sided_distance(segment: &LacSegment, pieces: &[Piece]) -> f64 {
     }
     worst
 }
+
+/// The SPLINE entities of a DXF drawing, in order.
+pub fn dxf_splines(drawing: &dxf::Drawing) -> Vec<&dxf::entities::Spline> {
+    drawing
+        .entities()
+        .filter_map(|e| match &e.specific {
+            dxf::entities::EntityType::Spline(s) => Some(s),
+            _ => None,
+        })
+        .collect()
+}
