@@ -6,7 +6,9 @@ use crate::bspline::BSpline;
 use crate::bspline::project::Pieces;
 use crate::geom::{Point, Vec2};
 use crate::lac::lcg::{lcg_of_bezier_span, lcg_slope};
-use crate::lac::{AlphaChoice, AlphaSearch, LacError, LacSegment, biarc, deviation, fit_span};
+use crate::lac::{
+    AlphaChoice, AlphaSearch, LacError, LacSegment, biarc, deviation, fit_span, within,
+};
 use crate::split::{Spans, SplitKind};
 
 /// Distances are seeded on a polyline whose chord error is this fraction of the tolerance, then
@@ -213,6 +215,15 @@ pub fn fit_chain(
     // distances alone, or a tangent turned at a run's end, can leave a neighbour that no α joins
     // (seen with the seed's unfaired B-spline): make every segment constructible again.
     fitter.repair(&mut state, &mut searches)?;
+    // A repair that dropped a segment the data cannot resolve hands its samples to a neighbour,
+    // which may then miss the tolerance: cut again where needed (no refinement, which could undo
+    // the repair).
+    for _ in 0..options.max_depth {
+        if !fitter.subdivide(&mut state, &mut searches) {
+            break;
+        }
+        fitter.repair(&mut state, &mut searches)?;
+    }
     fitter.finish(&state, searches)
 }
 
@@ -396,6 +407,29 @@ impl<'a> Fitter<'a> {
             let (a, b) = (state.joints[k], state.joints[k + 1]);
             // A cut on top of an existing joint would make a segment of no length.
             let apart = COINCIDENT_JOINT_FRACTION * self.tolerance;
+            // A cut within the tolerance of a free end of the piece would leave a segment the
+            // data cannot resolve (refinement can move an end joint off the B-spline's end,
+            // and the last sample then misses): put that end back on the B-spline instead.
+            let free_end = |j: &Joint| {
+                matches!(j.kind, JointKind::Start | JointKind::End)
+                    && !j.fixed
+                    && mid.p.distance(j.p) < self.tolerance
+            };
+            if let Some(which) = [(k + 1, b), (k, a)]
+                .into_iter()
+                .find_map(|(i, j)| free_end(&j).then_some(i))
+            {
+                let joint = state.joints[which];
+                let (u0, u1) = self.pieces.domain();
+                let u = if joint.kind == JointKind::End { u1 } else { u0 };
+                let snapped = self.joint_at(u, joint.kind);
+                if snapped.p != joint.p || snapped.angle != joint.angle {
+                    state.joints[which] = snapped;
+                    cut = true;
+                }
+                k += 1;
+                continue;
+            }
             if mid.p.distance(a.p) <= apart || mid.p.distance(b.p) <= apart {
                 k += 1;
                 continue;
@@ -472,10 +506,18 @@ impl<'a> Fitter<'a> {
                 k += 1;
                 continue;
             }
-            if a.p.distance(b.p) <= COINCIDENT_JOINT_FRACTION * self.tolerance && state.len() > 1 {
-                // A segment of no length: drop it and one of its joints (the chain's last joint
-                // is kept: it is the piece's end). The segment after it is rebuilt from the
-                // surviving joint, so the chain stays G1.
+            let coincident = a.p.distance(b.p) <= COINCIDENT_JOINT_FRACTION * self.tolerance;
+            let arcs = biarc(a.p, a.tangent(), b.p, b.tangent());
+            // Arcs tighter than the smallest radius turn inside a disc the samples cannot resolve
+            // (seen: joints 0.01 px apart at a 0.5 px tolerance, their tangents an S): the two
+            // joints are one, as far as the data can tell.
+            let unresolved = arcs.as_ref().is_ok_and(|[s0, s1]| {
+                !(within(s0, self.max_curvature) && within(s1, self.max_curvature))
+            });
+            if (coincident || unresolved) && state.len() > 1 {
+                // A segment of no length (or none the data resolve): drop it and one of its
+                // joints (the chain's last joint is kept: it is the piece's end). The segment
+                // after it is rebuilt from the surviving joint, so the chain stays G1.
                 let drop = if k + 1 == state.len() { k } else { k + 1 };
                 state.joints.remove(drop);
                 let samples = state.samples.remove(k);
@@ -485,14 +527,15 @@ impl<'a> Fitter<'a> {
                 state.samples[into].extend(samples);
                 let params = self.input.params;
                 state.samples[into].sort_by(|&x, &y| params[x].total_cmp(&params[y]));
+                // The joint before may now be the one no segment joins.
+                k = k.saturating_sub(1);
                 continue;
             }
-            let [s0, s1] =
-                biarc(a.p, a.tangent(), b.p, b.tangent()).map_err(|source| ChainError::Span {
-                    u0: 0.0,
-                    u1: 0.0,
-                    source,
-                })?;
+            let [s0, s1] = arcs.map_err(|source| ChainError::Span {
+                u0: 0.0,
+                u1: 0.0,
+                source,
+            })?;
             let mid = Joint {
                 p: s0.end(),
                 angle: s0.theta1(),

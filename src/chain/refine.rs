@@ -50,10 +50,12 @@ const LAMBDA_GROWTH: f64 = 10.0;
 /// Rejected trials per iteration before the refinement stops: after eight the step is 1e-8 of
 /// the Gauss–Newton one, and no useful descent is left.
 const MAX_TRIES: usize = 8;
-/// Relative cost decrease below which the iteration has converged: a hundredth of a percent of
-/// the sum of squared distances moves the rms distance by 0.005 %, invisible against any
-/// tolerance; iterating on costs time for nothing (the planted-α tests hold their 0.05).
-const CONVERGED: f64 = 1e-4;
+/// Relative cost decrease below which the iteration has converged: a tenth of a percent of the
+/// sum of squared distances moves the rms distance by 0.05 %, invisible against any tolerance;
+/// iterating on costs time for nothing. Over the fixture strokes up to 600 samples 1e-3 takes
+/// 12 % fewer instructions than 1e-4 for 2 more segments in 1 170, and the planted-α tests hold
+/// their 0.05.
+const CONVERGED: f64 = 1e-3;
 
 /// One unknown.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -149,6 +151,8 @@ pub(crate) fn refine(state: &mut State<'_>, options: &RefineOptions) -> Option<R
     }
     let width = ranges.iter().map(|r| r.len()).max().unwrap_or(1);
     let mut lambda = LAMBDA_START;
+    // The segment that could not be built in the last rejected trial: tried first next time.
+    let mut unbuildable = None;
     for _ in 0..options.max_iterations {
         let blocks = jacobian(state, &current, &unknowns, &ranges, options);
         // JᵀJ (band) and Jᵀr, block by block.
@@ -186,7 +190,7 @@ pub(crate) fn refine(state: &mut State<'_>, options: &RefineOptions) -> Option<R
             for (c, &u) in unknowns.iter().enumerate() {
                 add(&mut trial, u, -delta[c], options);
             }
-            match trial.evaluate_all_from(options.chord_error, state, &current) {
+            match trial.evaluate_all_from(options.chord_error, state, &current, unbuildable) {
                 Ok(e) if cost(&e) < current_cost => {
                     let new_cost = cost(&e);
                     let decrease = (current_cost - new_cost) / current_cost;
@@ -197,7 +201,11 @@ pub(crate) fn refine(state: &mut State<'_>, options: &RefineOptions) -> Option<R
                     improved = decrease > CONVERGED;
                     break;
                 }
-                _ => lambda *= LAMBDA_GROWTH,
+                Err(k) => {
+                    unbuildable = Some(k);
+                    lambda *= LAMBDA_GROWTH;
+                }
+                Ok(_) => lambda *= LAMBDA_GROWTH,
             }
         }
         if !improved {

@@ -18,7 +18,7 @@ use serde::{Deserialize, Serialize};
 
 use super::deviation::{Deviation, deviation, rough_deviation};
 use super::error::LacError;
-use super::minimize::brent;
+use super::minimize::{brent, brent_from};
 use super::segment::LacSegment;
 use super::yoshida_saito::{fit_g1, fit_g1_near};
 use crate::geom::{Point, Vec2};
@@ -213,9 +213,23 @@ pub fn fit_span(
         }
     };
 
-    // Brent on the cells around the best point.
+    // Brent on the cells around the best point, started from the points the walk or the grid
+    // already evaluated there (their parabola gives the first step).
+    let value_at = |alpha: f64| grid.iter().find(|p| p[0] == alpha).map(|p| (alpha, p[1]));
+    let best = value_at(best_alpha);
+    let known: Vec<(f64, f64)> = [lo, hi].into_iter().filter_map(value_at).collect();
     let objective = |alpha: f64| evaluate(alpha).map_or(f64::INFINITY, |(_, d)| d.rms);
-    let minimum = brent(objective, lo, hi, ALPHA_TOLERANCE, MAX_BRENT_EVALUATIONS);
+    let minimum = match best {
+        Some(best) => brent_from(
+            objective,
+            (lo, hi),
+            best,
+            &known,
+            ALPHA_TOLERANCE,
+            MAX_BRENT_EVALUATIONS,
+        ),
+        None => brent(objective, lo, hi, ALPHA_TOLERANCE, MAX_BRENT_EVALUATIONS),
+    };
     let alpha = if minimum.value.is_finite() {
         minimum.x
     } else {

@@ -25,13 +25,44 @@ pub fn brent(
     tol: f64,
     max_evaluations: usize,
 ) -> Minimum {
+    let (a, b) = if a <= b { (a, b) } else { (b, a) };
+    let x = a + GOLDEN * (b - a);
+    let fx = f(x);
+    brent_from(f, (a, b), (x, fx), &[], tol, max_evaluations)
+}
+
+/// [`brent`] started from what a coarse scan already knows: `best`, a point inside `[a, b]` with
+/// its value, and up to two other evaluated points (the scan's neighbours of `best`, typically
+/// `a` and `b` themselves). The first step is then the parabola through those three points
+/// rather than a golden-section step from scratch, and none of them is evaluated again. Points
+/// outside `[a, b]` or not above `best`'s value are ignored.
+pub fn brent_from(
+    mut f: impl FnMut(f64) -> f64,
+    (a, b): (f64, f64),
+    best: (f64, f64),
+    known: &[(f64, f64)],
+    tol: f64,
+    max_evaluations: usize,
+) -> Minimum {
     let (mut a, mut b) = if a <= b { (a, b) } else { (b, a) };
-    let mut x = a + GOLDEN * (b - a);
-    let (mut w, mut v) = (x, x);
-    let mut fx = f(x);
-    let (mut fw, mut fv) = (fx, fx);
+    let (mut x, mut fx) = best;
+    // w: the second-best point, v: the third (Brent's names); both x when not known.
+    let mut others: Vec<(f64, f64)> = known
+        .iter()
+        .copied()
+        .filter(|&(p, fp)| p >= a && p <= b && p != x && fp >= fx)
+        .collect();
+    others.sort_by(|p, q| p.1.total_cmp(&q.1));
+    let (mut w, mut fw) = others.first().copied().unwrap_or((x, fx));
+    let (mut v, mut fv) = others.get(1).copied().unwrap_or((w, fw));
     let mut evaluations = 1;
-    let (mut d, mut e) = (0.0f64, 0.0f64);
+    // With three known points, allow the first step to be parabolic (the step before last is
+    // taken as the whole interval); otherwise start with a golden-section step.
+    let (mut d, mut e) = if others.len() == 2 {
+        (0.0f64, b - a)
+    } else {
+        (0.0f64, 0.0f64)
+    };
     while evaluations < max_evaluations {
         let m = 0.5 * (a + b);
         let tol1 = tol + f64::EPSILON * x.abs();
@@ -135,6 +166,39 @@ mod tests {
             200,
         );
         assert!((m.x + 0.5).abs() < 1e-6, "{}", m.x);
+    }
+
+    #[test]
+    fn a_seeded_search_finds_the_minimum_in_fewer_evaluations() {
+        let f = |x: f64| x.cosh() + 0.3 * x;
+        let cold = brent(f, -2.0, 2.0, 1e-7, 100);
+        // A coarse scan at −2, −1, 0, 1, 2 knows the minimum lies between −1 and 1, nearest 0.
+        let seeded = brent_from(
+            f,
+            (-1.0, 1.0),
+            (0.0, f(0.0)),
+            &[(-1.0, f(-1.0)), (1.0, f(1.0))],
+            1e-7,
+            100,
+        );
+        let exact = (-0.3f64).asinh();
+        assert!((seeded.x - exact).abs() < 1e-6, "{}", seeded.x);
+        assert!(
+            seeded.evaluations < cold.evaluations,
+            "{} vs {}",
+            seeded.evaluations,
+            cold.evaluations
+        );
+        // Known points that are not worse than the best, or lie outside, are ignored.
+        let odd = brent_from(
+            f,
+            (-1.0, 1.0),
+            (0.0, f(0.0)),
+            &[(-5.0, 100.0), (0.5, -10.0)],
+            1e-7,
+            100,
+        );
+        assert!((odd.x - exact).abs() < 1e-6, "{}", odd.x);
     }
 
     #[test]
