@@ -1,0 +1,77 @@
+//! Fits every fixture stroke of up to 600 samples through the whole pipeline, one line each (best
+//! time of `REPS` rounds, default 3; samples; segments): a profiling aid, not a benchmark (that is
+//! `cargo bench --bench lac`). The instruction counts in the README come from
+//! `REPS=1 valgrind --tool=callgrind target/release/examples/fit_fixture_strokes`.
+//! Arguments filter the files by name; `ONLY=i` keeps stroke i of each.
+use kansei::pipeline::{PipelineOptions, fit_stroke};
+use kansei::stroke::StrokeFile;
+use std::time::Instant;
+
+fn main() {
+    let args: Vec<String> = std::env::args().skip(1).collect();
+    let reps: usize = std::env::var("REPS")
+        .ok()
+        .and_then(|s| s.parse().ok())
+        .unwrap_or(3);
+    let mut dir: Vec<_> = std::fs::read_dir("fixtures/strokes")
+        .into_iter()
+        .flatten()
+        .flatten()
+        .map(|e| e.path())
+        .filter(|p| p.extension().is_some_and(|e| e == "json"))
+        .collect();
+    dir.sort();
+    let (mut strokes, mut segments) = (0usize, 0usize);
+    for path in dir {
+        if !args.is_empty()
+            && !args
+                .iter()
+                .any(|a| path.to_string_lossy().contains(a.as_str()))
+        {
+            continue;
+        }
+        let Ok(text) = std::fs::read_to_string(&path) else {
+            continue;
+        };
+        let Ok(file) = StrokeFile::from_json(&text) else {
+            continue;
+        };
+        let tol = file.units.default_tolerance();
+        let options = PipelineOptions::default().with_tolerance(tol);
+        for (i, s) in file.strokes.iter().enumerate() {
+            if s.samples.len() > 600 {
+                continue;
+            }
+            if let Ok(only) = std::env::var("ONLY")
+                && only.parse::<usize>().ok() != Some(i)
+            {
+                continue;
+            }
+            let mut best = f64::INFINITY;
+            let mut segs = 0;
+            for _ in 0..reps {
+                let t = Instant::now();
+                let r = fit_stroke(s, i, tol, &options);
+                best = best.min(t.elapsed().as_secs_f64());
+                if let Ok(f) = r {
+                    segs = f
+                        .iter()
+                        .filter_map(|c| c.chain.as_ref())
+                        .map(|c| c.segments.len())
+                        .sum();
+                }
+            }
+            strokes += 1;
+            segments += segs;
+            println!(
+                "{:8.2} ms  {:4} samples {:3} segs  {}#{}",
+                best * 1e3,
+                s.samples.len(),
+                segs,
+                path.file_name().unwrap_or_default().to_string_lossy(),
+                i
+            );
+        }
+    }
+    println!("{strokes} strokes, {segments} segments");
+}
