@@ -29,7 +29,11 @@ pub const GRID_STEP: f64 = 0.5;
 
 /// The search ranks α values with distances exact to this multiple of the caller's chord error
 /// (coarser, hence faster, tracing); the chosen segment's distances are then computed exactly.
-const SEARCH_CHORD_FACTOR: f64 = 10.0;
+/// With the chain's chord error of 1e-3 of the tolerance, 30 traces at 3 % of it: the polyline's
+/// bias is nearly the same for neighbouring α, so the ranking holds, and over the fixture strokes
+/// up to 600 samples it takes 5 % fewer instructions than 10 for as many segments (1 147 against
+/// 1 161; 100 saves 2 % more).
+const SEARCH_CHORD_FACTOR: f64 = 30.0;
 
 /// Absolute tolerance on α of the continuous search. The search only starts the chain
 /// refinement, which moves α again (by 0.1–0.2 on noisy ends); over the fixture strokes up to 600
