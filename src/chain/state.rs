@@ -7,6 +7,7 @@ use std::rc::Rc;
 
 use crate::geom::{Point, Vec2};
 use crate::lac::deviation::points_at;
+use crate::lac::yoshida_saito::fit_g1_probe;
 use crate::lac::{LacError, LacSegment, deviation, fit_g1_near, within};
 
 use super::JointKind;
@@ -231,7 +232,8 @@ impl State<'_> {
 
     /// Segment `k`'s sample rows of the first-order model (no end anchors) with its joints
     /// and α replaced by `a`, `b`, `alpha` (a probe of the refinement's Jacobian), the
-    /// construction warm-started from `near`'s segment.
+    /// construction one Newton step from `near`'s segment ([`fit_g1_probe`]: the probe is a
+    /// tiny step away, and the step's O(h²) error is far below what the difference resolves).
     pub fn sample_residuals_with(
         &self,
         k: usize,
@@ -240,14 +242,7 @@ impl State<'_> {
         alpha: f64,
         near: &Evaluated,
     ) -> Result<Vec<f64>, LacError> {
-        let segment = fit_g1_near(
-            a.p,
-            a.tangent(),
-            b.p,
-            b.tangent(),
-            alpha,
-            Some(&near.segment),
-        )?;
+        let segment = fit_g1_probe(a.p, a.tangent(), b.p, b.tangent(), alpha, &near.segment)?;
         if !within(&segment, self.max_curvature) {
             return Err(LacError::CurvatureTooHigh {
                 limit: self.max_curvature,

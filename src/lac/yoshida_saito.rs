@@ -235,6 +235,35 @@ pub fn fit_g1_near(
     alpha: f64,
     near: Option<&LacSegment>,
 ) -> Result<LacSegment, LacError> {
+    build(a, ta, b, tb, alpha, near, false)
+}
+
+/// [`fit_g1_near`] for data a tiny step away from `near`'s (a finite-difference probe): the
+/// solve for q takes one Newton step from `near`'s ratio, with the end moved to first order. A
+/// step of h in the data moves q by O(h), so the result is off by O(h²) (about 1e-14 for the
+/// refinement's steps of 1e-7), far below what a forward difference resolves, for one
+/// quadrature instead of the two or three that confirm convergence. Not for output.
+pub(crate) fn fit_g1_probe(
+    a: Point,
+    ta: Vec2,
+    b: Point,
+    tb: Vec2,
+    alpha: f64,
+    near: &LacSegment,
+) -> Result<LacSegment, LacError> {
+    build(a, ta, b, tb, alpha, Some(near), true)
+}
+
+/// The body of [`fit_g1_near`] and [`fit_g1_probe`].
+fn build(
+    a: Point,
+    ta: Vec2,
+    b: Point,
+    tb: Vec2,
+    alpha: f64,
+    near: Option<&LacSegment>,
+    one_step: bool,
+) -> Result<LacSegment, LacError> {
     let hint = near.and_then(|n| {
         let (k0, k1) = (n.kappa0().abs(), n.kappa1().abs());
         let (hi, lo) = if k0 >= k1 { (k0, k1) } else { (k1, k0) };
@@ -315,7 +344,7 @@ pub fn fit_g1_near(
         // chord angle there is within rounding of the edge's, which is then the answer; near
         // α = 0⁻ it approaches the edge only like e^{αq}, the data lies between q = 600 and the
         // edge, and no record can hold it.
-        match solve_q(alpha, theta_t, big, hint, MAX_LOG_CURVATURE_RATIO)? {
+        match solve_q(alpha, theta_t, big, hint, MAX_LOG_CURVATURE_RATIO, one_step)? {
             Some(solved) => Ok(Some(solved)),
             None if f_edge <= DRAWABLE_EDGE_TOLERANCE => Ok(None),
             None => Err(LacError::CurvatureRatioOutOfRange {
@@ -331,13 +360,16 @@ pub fn fit_g1_near(
             edge_path()?
         } else {
             // Most data lies well inside: look for the root below a moderate ratio first.
-            match solve_q(alpha, theta_t, big, hint, EDGE_CHECK_RATIO)? {
+            match solve_q(alpha, theta_t, big, hint, EDGE_CHECK_RATIO, one_step)? {
                 Some(solved) => Some(solved),
                 None => edge_path()?,
             }
         }
     } else {
-        Some(solve_q(alpha, theta_t, big, hint, MAX_LOG_CURVATURE_RATIO)?.ok_or_else(outside)?)
+        Some(
+            solve_q(alpha, theta_t, big, hint, MAX_LOG_CURVATURE_RATIO, one_step)?
+                .ok_or_else(outside)?,
+        )
     };
     let q = solved.map(|(q, _)| q);
     let shape = StandardShape::new(alpha, theta_t, q)?;
@@ -438,7 +470,10 @@ fn solve_q(
     big: f64,
     hint: Option<f64>,
     q_max: f64,
+    one_step: bool,
 ) -> Result<Option<(f64, Option<SpanEnd>)>, LacError> {
+    // One Newton step from the hint only (see `fit_g1_probe`).
+    let one_step = one_step && hint.is_some_and(|h| h > 0.0 && h <= q_max);
     let (mut lo, mut hi) = (0.0_f64, f64::INFINITY);
     // Whether φ(hi) ≥ big was seen (hi may also be a q at which the shape overflows).
     let mut bracketed = false;
@@ -482,7 +517,7 @@ fn solve_q(
                 step <= NEWTON_SETTLED_RATIO * p
                     && step * step * step <= LOG_RATIO_TOLERANCE * p * p
             });
-            if step <= LOG_RATIO_TOLERANCE || settled {
+            if step <= LOG_RATIO_TOLERANCE || settled || one_step {
                 // The end at the new q to first order (its error ≈ |P″|·step², below the
                 // solver's own tolerance once settled).
                 let moved = SpanEnd {
@@ -583,6 +618,43 @@ mod tests {
                     assert!(
                         (closed - quad).hypot() <= 1e-13 * shape.length,
                         "α {alpha} θ_T {theta_t} q {q}: {closed:?} vs {quad:?}"
+                    );
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn a_probe_one_step_away_matches_the_full_solve() {
+        let (a, b) = (Point::ORIGIN, Point::new(2.0, 0.5));
+        let (ta, tb) = (Vec2::new(1.0, -0.4), Vec2::new(0.3, 1.0));
+        for alpha in [-1.5, -0.5, 0.0, 0.5, 1.5, 2.5] {
+            let Ok(base) = fit_g1(a, ta, b, tb, alpha) else {
+                continue;
+            };
+            // The refinement's probes: a tangent turned by 1e-7 rad, α moved by 1e-6.
+            let turned = Vec2::new(
+                tb.x * 1e-7f64.cos() - tb.y * 1e-7f64.sin(),
+                tb.x * 1e-7f64.sin() + tb.y * 1e-7f64.cos(),
+            );
+            for (tb1, alpha1) in [(turned, alpha), (tb, alpha + 1e-6)] {
+                let exact = fit_g1(a, ta, b, tb1, alpha1).expect("drawable");
+                let probe = fit_g1_probe(a, ta, b, tb1, alpha1, &base).expect("drawable");
+                // The probe's error is O(h²) (its constant grows towards the drawable region's
+                // edge), the shape's response O(h): measured against the response (the relative
+                // change of κ1), the error is below 0.1 % of it, so a difference quotient of the
+                // probe is the full solve's to that.
+                let response = (exact.kappa1() - base.kappa1()).abs() / base.kappa1().abs();
+                assert!(response > 0.0, "α {alpha}: the probe changed nothing");
+                for (x, y) in [
+                    (probe.kappa0(), exact.kappa0()),
+                    (probe.kappa1(), exact.kappa1()),
+                    (probe.length(), exact.length()),
+                ] {
+                    let change = response * y.abs();
+                    assert!(
+                        (x - y).abs() <= 1e-3 * change,
+                        "α {alpha}: {x} vs {y} (change {change:e})"
                     );
                 }
             }
