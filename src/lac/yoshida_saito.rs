@@ -624,14 +624,30 @@ mod tests {
         }
     }
 
+    /// G1 data: start, its tangent, end, its tangent.
+    type G1Data = (Point, Vec2, Point, Vec2);
+
+    /// G1 data of a left-turning spiral, and the segments of the α values for which it is
+    /// drawable, each built cold.
+    fn g1_data_and_segments() -> (G1Data, Vec<(f64, LacSegment)>) {
+        let data = (
+            Point::ORIGIN,
+            Vec2::new(1.0, -0.4),
+            Point::new(2.0, 0.5),
+            Vec2::new(0.3, 1.0),
+        );
+        let (a, ta, b, tb) = data;
+        let segments = [-1.5, -0.5, 0.0, 0.5, 1.5, 2.5]
+            .into_iter()
+            .filter_map(|alpha| fit_g1(a, ta, b, tb, alpha).ok().map(|s| (alpha, s)))
+            .collect();
+        (data, segments)
+    }
+
     #[test]
     fn a_probe_one_step_away_matches_the_full_solve() {
-        let (a, b) = (Point::ORIGIN, Point::new(2.0, 0.5));
-        let (ta, tb) = (Vec2::new(1.0, -0.4), Vec2::new(0.3, 1.0));
-        for alpha in [-1.5, -0.5, 0.0, 0.5, 1.5, 2.5] {
-            let Ok(base) = fit_g1(a, ta, b, tb, alpha) else {
-                continue;
-            };
+        let ((a, ta, b, tb), segments) = g1_data_and_segments();
+        for (alpha, base) in segments {
             // The refinement's probes: a tangent turned by 1e-7 rad, α moved by 1e-6.
             let turned = Vec2::new(
                 tb.x * 1e-7f64.cos() - tb.y * 1e-7f64.sin(),
@@ -663,12 +679,8 @@ mod tests {
 
     #[test]
     fn warm_start_gives_the_same_segment() {
-        let (a, b) = (Point::ORIGIN, Point::new(2.0, 0.5));
-        let (ta, tb) = (Vec2::new(1.0, -0.4), Vec2::new(0.3, 1.0));
-        for alpha in [-1.5, -0.5, 0.0, 0.5, 1.5, 2.5] {
-            let Ok(cold) = fit_g1(a, ta, b, tb, alpha) else {
-                continue;
-            };
+        let ((a, ta, b, tb), segments) = g1_data_and_segments();
+        for (alpha, cold) in segments {
             // Hints from a neighbouring α, from the answer itself, and from a far-off segment.
             let near = fit_g1(a, ta, b, tb, alpha + 0.1).ok();
             let far =
