@@ -405,8 +405,6 @@ impl<'a> Fitter<'a> {
             };
             let mid = self.joint_at(um, JointKind::Subdivision);
             let (a, b) = (state.joints[k], state.joints[k + 1]);
-            // A cut on top of an existing joint would make a segment of no length.
-            let apart = COINCIDENT_JOINT_FRACTION * self.tolerance;
             // A cut within the tolerance of a free end of the piece would leave a segment the
             // data cannot resolve (refinement can move an end joint off the B-spline's end,
             // and the last sample then misses): put that end back on the B-spline instead.
@@ -430,6 +428,8 @@ impl<'a> Fitter<'a> {
                 k += 1;
                 continue;
             }
+            // A cut on top of an existing joint would make a segment of no length.
+            let apart = COINCIDENT_JOINT_FRACTION * self.tolerance;
             if mid.p.distance(a.p) <= apart || mid.p.distance(b.p) <= apart {
                 k += 1;
                 continue;
