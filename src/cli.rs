@@ -732,12 +732,17 @@ fn quick_look_png(
     render_png(&scene, &view, &RenderOptions::default())
 }
 
-/// Writes through a temporary file and a rename, so a reader never sees half a file.
+/// Writes through a temporary file and a rename, so a reader never sees half a file; a device
+/// or FIFO (`/dev/null`, `/dev/stdout`) is written in place instead
+/// ([`crate::capture::writer::write_special`]).
 pub fn write_atomic(path: &Path, bytes: &[u8]) -> Result<(), CliError> {
     let io = |source| CliError::Io {
         path: path.to_owned(),
         source,
     };
+    if let Some(done) = crate::capture::writer::write_special(path, bytes) {
+        return done.map_err(io);
+    }
     if let Some(dir) = path.parent().filter(|d| !d.as_os_str().is_empty()) {
         std::fs::create_dir_all(dir).map_err(io)?;
     }

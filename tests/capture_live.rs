@@ -322,6 +322,15 @@ fn capture_command_end_to_end() {
     assert_eq!(read_file(&out).strokes, reference);
     let replayed_raw = kansei(&["replay", raw.to_str().expect("utf-8"), "--out", "/dev/null"]);
     assert!(replayed_raw.status.success());
+    // Written in place, not renamed over: the device node survives (as root the rename replaced
+    // it with a regular file).
+    {
+        use std::os::unix::fs::FileTypeExt;
+        let kind = std::fs::metadata("/dev/null")
+            .expect("/dev/null")
+            .file_type();
+        assert!(kind.is_char_device(), "/dev/null is no longer a device");
+    }
     assert_eq!(
         replay_text(&std::fs::read_to_string(&raw).expect("raw"))
             .expect("replay")

@@ -48,10 +48,31 @@ fn io_error(path: &Path) -> impl Fn(std::io::Error) -> WriteError + '_ {
     }
 }
 
+/// Writes `bytes` straight into `path` when it names something other than a regular file or a
+/// directory (a device such as `/dev/null`, a FIFO): `Some` with the outcome, `None` when `path`
+/// is a regular file or absent and the caller should write through a temporary file and a rename.
+/// Renaming onto a device would replace the device node itself (as root, `--out /dev/null` once
+/// turned the machine's /dev/null into a regular file).
+pub fn write_special(path: &Path, bytes: &[u8]) -> Option<std::io::Result<()>> {
+    let kind = std::fs::metadata(path).ok()?.file_type();
+    if kind.is_file() || kind.is_dir() {
+        return None;
+    }
+    Some(
+        std::fs::OpenOptions::new()
+            .write(true)
+            .open(path)
+            .and_then(|mut f| f.write_all(bytes)),
+    )
+}
+
 /// Writes `bytes` to `path` through `<path>.tmp`, with `fsync` of the file and of its directory
 /// around the rename: after it returns, `path` holds `bytes` even across a power cut, and at no
-/// time does `path` hold a partial file.
+/// time does `path` hold a partial file. A device or FIFO is written in place ([`write_special`]).
 pub fn write_durable(path: &Path, bytes: &[u8]) -> Result<(), WriteError> {
+    if let Some(done) = write_special(path, bytes) {
+        return done.map_err(io_error(path));
+    }
     let dir = path
         .parent()
         .filter(|d| !d.as_os_str().is_empty())
