@@ -13,10 +13,19 @@
 //! contiguous block of at most 7 unknowns, so JᵀJ is a band matrix of half-bandwidth ≤ 6: it is
 //! assembled block by block and solved by a band Cholesky ([`super::band`]), O(K) per iteration
 //! for K segments instead of the O(K³) of a dense solve.
+//!
+//! A segment exists only while its G1 data lie in the drawable region of its α, and the best fit
+//! often sits at that region's edge (the samples want an α the joints cannot carry). A trial that
+//! leaves the region holds that segment from then on: its drawable margin (radians, see
+//! [`crate::lac::yoshida_saito`]) is linearised at each iterate and the damped step is moved to
+//! the nearest step, in the system's own metric, that keeps the margin (an active-set solve over
+//! the held segments, `keep_inside`). Damping alone cannot do that: at the edge every damped step
+//! still points outside, only shorter, and the whole chain stalls.
 
 use super::band::Band;
 use super::state::{Evaluated, Joint, State, cost, model_at_feet};
 use crate::geom::Vec2;
+use crate::lac::yoshida_saito::drawable_margin;
 
 /// Options of [`refine`].
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -56,6 +65,13 @@ const MAX_TRIES: usize = 8;
 /// 12 % fewer instructions than 1e-4 for 2 more segments in 1 170, and the planted-α tests hold
 /// their 0.05.
 const CONVERGED: f64 = 1e-3;
+/// Margin (radians of chord angle, see [`drawable_margin`]) a step keeps from a drawable-region
+/// edge it is held away from: a hundred times the angle probe, so that the next Jacobian's probes
+/// stay buildable. A segment already closer keeps its margin instead of losing it.
+const EDGE_MARGIN: f64 = 1e-5;
+/// Finite-difference step of a margin gradient on a position, relative to the chord (the margin
+/// is invariant under scaling).
+const MARGIN_POSITION_STEP: f64 = 1e-7;
 
 /// One unknown.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -153,6 +169,8 @@ pub(crate) fn refine(state: &mut State<'_>, options: &RefineOptions) -> Option<R
     let mut lambda = LAMBDA_START;
     // The segment that could not be built in the last rejected trial: tried first next time.
     let mut unbuildable = None;
+    // Segments held inside their drawable region (see `EdgeConstraint`).
+    let mut held: Vec<usize> = Vec::new();
     for _ in 0..options.max_iterations {
         let blocks = jacobian(state, &current, &unknowns, &ranges, options);
         // JᵀJ (band) and Jᵀr, block by block.
@@ -173,6 +191,12 @@ pub(crate) fn refine(state: &mut State<'_>, options: &RefineOptions) -> Option<R
                 }
             }
         }
+        // Segments that left their drawable region in an earlier trial are held inside it,
+        // linearised at this iterate.
+        let mut edges: Vec<EdgeConstraint> = held
+            .iter()
+            .filter_map(|&k| EdgeConstraint::at(state, k, &unknowns, &ranges[k]))
+            .collect();
         let mut improved = false;
         let mut tries = 0;
         while lambda < LAMBDA_MAX && tries < MAX_TRIES {
@@ -182,7 +206,7 @@ pub(crate) fn refine(state: &mut State<'_>, options: &RefineOptions) -> Option<R
                 // Marquardt's scaling, with a floor for unknowns the data barely see.
                 a.add(i, i, lambda * jtj.get(i, i).max(f64::MIN_POSITIVE.sqrt()));
             }
-            let Some(delta) = a.solve(&jtr) else {
+            let Some(delta) = a.solve(&jtr).and_then(|d| keep_inside(&a, d, &edges)) else {
                 lambda *= 10.0;
                 continue;
             };
@@ -203,7 +227,18 @@ pub(crate) fn refine(state: &mut State<'_>, options: &RefineOptions) -> Option<R
                 }
                 Err(k) => {
                     unbuildable = Some(k);
-                    lambda *= LAMBDA_GROWTH;
+                    // Left the drawable region: hold the segment inside it (same damping) the
+                    // first time; any other failure, or a held segment failing again, damps.
+                    let outside = trial_margin(&trial, k).is_some_and(|m| m < 0.0);
+                    if outside
+                        && !held.contains(&k)
+                        && let Some(edge) = EdgeConstraint::at(state, k, &unknowns, &ranges[k])
+                    {
+                        held.push(k);
+                        edges.push(edge);
+                    } else {
+                        lambda *= LAMBDA_GROWTH;
+                    }
                 }
                 Ok(_) => lambda *= LAMBDA_GROWTH,
             }
@@ -383,6 +418,149 @@ fn jacobian_by_differences(
     blocks
 }
 
+/// Segment `k`'s drawable margin in `state` (see [`drawable_margin`]).
+fn trial_margin(state: &State<'_>, k: usize) -> Option<f64> {
+    let (a, b) = (state.joints.get(k)?, state.joints.get(k + 1)?);
+    drawable_margin(a.p, a.tangent(), b.p, b.tangent(), *state.alphas.get(k)?)
+}
+
+/// A segment held inside its drawable region: the linearised constraint
+/// m + ∇m·δ ≥ target on the step δ, with m its [`drawable_margin`] at the iterate.
+///
+/// Without it, a segment at the edge of its region (where the α search or an earlier step often
+/// leaves it: the data want an α beyond the edge) blocks the whole chain: the Gauss–Newton step
+/// points outside, and so does every damped step, which only shrinks it. Held, the step slides
+/// along the edge instead.
+#[derive(Clone, Debug)]
+struct EdgeConstraint {
+    /// Margin at the iterate.
+    margin: f64,
+    /// The margin the step must keep: min(m, max(m/2, [`EDGE_MARGIN`])).
+    target: f64,
+    /// ∂m/∂x over the segment's unknowns: (unknown index, value).
+    gradient: Vec<(usize, f64)>,
+}
+
+impl EdgeConstraint {
+    /// The constraint of segment `k` at `state` (forward differences of the margin over the
+    /// unknowns in `range`); `None` where the margin is undefined.
+    fn at(
+        state: &State<'_>,
+        k: usize,
+        unknowns: &[Unknown],
+        range: &std::ops::Range<usize>,
+    ) -> Option<Self> {
+        let (a, b, alpha) = (
+            *state.joints.get(k)?,
+            *state.joints.get(k + 1)?,
+            *state.alphas.get(k)?,
+        );
+        let margin_of = |a: Joint, b: Joint, alpha: f64| {
+            drawable_margin(a.p, a.tangent(), b.p, b.tangent(), alpha)
+        };
+        let margin = margin_of(a, b, alpha)?;
+        let h_position = MARGIN_POSITION_STEP * a.p.distance(b.p);
+        let mut gradient = Vec::with_capacity(range.len());
+        for c in range.clone() {
+            let (mut pa, mut pb, mut palpha) = (a, b, alpha);
+            let h = match unknowns[c] {
+                Unknown::X(j) | Unknown::Y(j) => {
+                    let joint = if j == k { &mut pa } else { &mut pb };
+                    match unknowns[c] {
+                        Unknown::X(_) => joint.p.x += h_position,
+                        _ => joint.p.y += h_position,
+                    }
+                    h_position
+                }
+                Unknown::Angle(j) => {
+                    let joint = if j == k { &mut pa } else { &mut pb };
+                    joint.angle += ANGLE_STEP;
+                    ANGLE_STEP
+                }
+                Unknown::Alpha(_) => {
+                    palpha += ALPHA_STEP;
+                    ALPHA_STEP
+                }
+            };
+            gradient.push((c, (margin_of(pa, pb, palpha)? - margin) / h));
+        }
+        Some(EdgeConstraint {
+            margin,
+            target: margin.min((0.5 * margin).max(EDGE_MARGIN)),
+            gradient,
+        })
+    }
+
+    /// The linearised margin after the step x ← x − `delta`, less the target.
+    fn slack(&self, delta: &[f64]) -> f64 {
+        let change: f64 = self.gradient.iter().map(|&(c, g)| -g * delta[c]).sum();
+        self.margin + change - self.target
+    }
+}
+
+/// The damped step `delta` (applied as x ← x − δ) of the system `a`, moved to the nearest step in
+/// `a`'s metric that keeps every constraint's slack ≥ 0: δ' = δ − Σ μᵢ·a⁻¹∇mᵢ with μ ≥ 0 from the
+/// active constraints' normal equations (an active set grown by the violated constraints, and
+/// shrunk by those whose multiplier turns negative). `None` if a solve fails.
+fn keep_inside(a: &Band, delta: Vec<f64>, edges: &[EdgeConstraint]) -> Option<Vec<f64>> {
+    if edges.iter().all(|e| e.slack(&delta) >= 0.0) {
+        return Some(delta);
+    }
+    let n = delta.len();
+    let dense = |e: &EdgeConstraint| {
+        let mut g = vec![0.0; n];
+        for &(c, v) in &e.gradient {
+            g[c] = v;
+        }
+        g
+    };
+    // a⁻¹∇mᵢ for every constraint (few: the segments held at an edge).
+    let inverse: Vec<Vec<f64>> = edges
+        .iter()
+        .map(|e| a.solve(&dense(e)))
+        .collect::<Option<_>>()?;
+    let mut active: Vec<usize> = Vec::new();
+    let mut result = delta.clone();
+    for _ in 0..=2 * edges.len() {
+        let violated: Vec<usize> = (0..edges.len())
+            .filter(|&i| !active.contains(&i) && edges[i].slack(&result) < 0.0)
+            .collect();
+        if violated.is_empty() {
+            break;
+        }
+        active.extend(violated);
+        loop {
+            // Slack after δ − Σ μⱼ·vⱼ is slackᵢ(δ) + Σ μⱼ·∇mᵢ·vⱼ: solve for zero slack.
+            let m = active.len();
+            let matrix = nalgebra::DMatrix::from_fn(m, m, |i, j| {
+                edges[active[i]]
+                    .gradient
+                    .iter()
+                    .map(|&(c, g)| g * inverse[active[j]][c])
+                    .sum::<f64>()
+            });
+            let rhs = nalgebra::DVector::from_fn(m, |i, _| -edges[active[i]].slack(&delta));
+            let mu = matrix.lu().solve(&rhs)?;
+            if let Some(negative) = (0..m).find(|&i| mu[i] < 0.0) {
+                active.remove(negative);
+                if active.is_empty() {
+                    result = delta.clone();
+                    break;
+                }
+                continue;
+            }
+            result = delta.clone();
+            for (i, &e) in active.iter().enumerate() {
+                for (r, v) in result.iter_mut().zip(&inverse[e]) {
+                    *r -= mu[i] * v;
+                }
+            }
+            break;
+        }
+    }
+    Some(result)
+}
+
 /// The largest sample distance of an evaluated chain.
 fn max_distance(evaluated: &[Evaluated]) -> f64 {
     evaluated.iter().map(|e| e.max).fold(0.0, f64::max)
@@ -403,6 +581,79 @@ mod tests {
     use crate::chain::JointKind;
     use crate::geom::Point;
     use crate::lac::LacSegment;
+
+    /// A symmetric positive definite band matrix (diagonally dominant), pseudo-random.
+    fn random_band(n: usize, p: usize, seed: &mut u64) -> Band {
+        let mut next = || {
+            *seed = seed
+                .wrapping_mul(6364136223846793005)
+                .wrapping_add(1442695040888963407);
+            (*seed >> 11) as f64 / (1u64 << 53) as f64 * 2.0 - 1.0
+        };
+        let mut a = Band::zeros(n, p);
+        for i in 0..n {
+            a.add(i, i, 2.0 * p as f64 + 1.0 + next());
+            for j in i.saturating_sub(p)..i {
+                a.add(i, j, next());
+            }
+        }
+        a
+    }
+
+    /// (x − y)ᵀA(x − y).
+    fn metric(a: &Band, x: &[f64], y: &[f64]) -> f64 {
+        let d: Vec<f64> = x.iter().zip(y).map(|(x, y)| x - y).collect();
+        (0..d.len())
+            .map(|i| (0..d.len()).map(|j| d[i] * a.get(i, j) * d[j]).sum::<f64>())
+            .sum()
+    }
+
+    #[test]
+    fn a_held_step_keeps_every_margin_and_is_the_nearest_such_step() {
+        let mut seed = 7u64;
+        for case in 0..20 {
+            let (n, p) = (11, 3);
+            let a = random_band(n, p, &mut seed);
+            let delta: Vec<f64> = (0..n).map(|i| ((i * 7 + case) % 5) as f64 - 2.0).collect();
+            // Two constraints over overlapping blocks; the second is violated only in some cases.
+            let edges = vec![
+                EdgeConstraint {
+                    margin: 0.01,
+                    target: 0.005,
+                    gradient: vec![(2, 1.0), (3, -0.5), (4, 0.25)],
+                },
+                EdgeConstraint {
+                    margin: 0.3,
+                    target: 0.15,
+                    gradient: vec![(4, -0.2), (5, 1.0 - 0.1 * case as f64), (6, 0.4)],
+                },
+            ];
+            let out = keep_inside(&a, delta.clone(), &edges).expect("solvable");
+            for e in &edges {
+                assert!(
+                    e.slack(&out) >= -1e-12,
+                    "case {case}: slack {}",
+                    e.slack(&out)
+                );
+            }
+            if edges.iter().all(|e| e.slack(&delta) >= 0.0) {
+                assert_eq!(out, delta);
+                continue;
+            }
+            // No feasible step nearby is closer to the free one in the system's metric.
+            let best = metric(&a, &out, &delta);
+            for t in 0..200 {
+                let y: Vec<f64> = out
+                    .iter()
+                    .enumerate()
+                    .map(|(i, v)| v + 1e-3 * (((i * 31 + t * 17) % 13) as f64 - 6.0))
+                    .collect();
+                if edges.iter().all(|e| e.slack(&y) >= 0.0) {
+                    assert!(metric(&a, &y, &delta) >= best - 1e-12, "case {case}");
+                }
+            }
+        }
+    }
 
     /// A two-segment chain with noisy samples and joints moved off the data.
     fn points_and_state() -> (Vec<Point>, Vec<Joint>, Vec<f64>, Vec<Vec<usize>>) {
