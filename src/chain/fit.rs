@@ -269,6 +269,7 @@ impl<'a> Fitter<'a> {
             },
             chord_error: self.chord_error,
             scale: scale.max(self.tolerance),
+            tolerance: self.tolerance,
         }
     }
 
