@@ -7,7 +7,9 @@ use crate::bspline::project::Pieces;
 use crate::geom::{Point, Vec2};
 use crate::lac::lcg::{lcg_of_bezier_span, lcg_slope};
 use crate::lac::{
-    AlphaChoice, AlphaSearch, LacError, LacSegment, biarc, deviation, fit_span, within,
+    AlphaChoice, AlphaSearch, LacError, LacSegment,
+    alpha_search::{ALPHA_TOLERANCE, SEED_ALPHA_TOLERANCE},
+    biarc, deviation, fit_span, within,
 };
 use crate::split::{Spans, SplitKind};
 
@@ -255,6 +257,15 @@ impl<'a> Fitter<'a> {
         }
     }
 
+    /// The α search's tolerance: coarse when the refinement will move α anyway.
+    fn alpha_tolerance(&self) -> f64 {
+        if self.options.refine {
+            SEED_ALPHA_TOLERANCE
+        } else {
+            ALPHA_TOLERANCE
+        }
+    }
+
     fn refine_options(&self, state: &State) -> RefineOptions {
         let scale: f64 = state
             .joints
@@ -324,6 +335,7 @@ impl<'a> Fitter<'a> {
             self.chord_error,
             self.max_curvature,
             guess,
+            self.alpha_tolerance(),
         )?;
         // Arcs and lines have no α: any value reproduces them; keep the range's middle.
         let alpha = fit.segment.alpha().unwrap_or(self.options.alpha.middle());
@@ -501,6 +513,7 @@ impl<'a> Fitter<'a> {
                 self.chord_error,
                 self.max_curvature,
                 None,
+                self.alpha_tolerance(),
             ) {
                 state.alphas[k] = fit.segment.alpha().unwrap_or(middle);
                 searches[k] = fit.search;
