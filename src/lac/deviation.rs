@@ -13,6 +13,7 @@
 //! [`deviation`] then polishes them into exact foot-point distances.
 
 use super::segment::LacSegment;
+use super::special::{cis, cis_small, cmul};
 use crate::geom::{Point, Vec2};
 use kurbo::common::GAUSS_LEGENDRE_COEFFS_3;
 
@@ -197,9 +198,18 @@ fn integrate(segment: &LacSegment, a: f64, b: f64) -> Vec2 {
     let mut sum = Vec2::ZERO;
     for i in 0..steps {
         let start = a + h * i as f64;
+        // e^{iθ} at the nodes as e^{iθ_mid}·e^{i(θ − θ_mid)}: one sin_cos per step, the rest by
+        // the small-angle series (the step turns at most POLISH_STEP_TURN).
+        let theta_mid = segment.theta(start + 0.5 * h);
+        let phase_mid = cis(theta_mid);
         for &(w, x) in GAUSS_LEGENDRE_COEFFS_3 {
-            let theta = segment.theta(start + 0.5 * h * (1.0 + x));
-            sum += Vec2::new(theta.cos(), theta.sin()) * (0.5 * h * w);
+            let unit = if x == 0.0 {
+                phase_mid
+            } else {
+                let theta = segment.theta(start + 0.5 * h * (1.0 + x));
+                cmul(phase_mid, cis_small(theta - theta_mid))
+            };
+            sum += unit * (0.5 * h * w);
         }
     }
     sum

@@ -33,7 +33,7 @@
 //! Symmetrically for α > 0, where the mass sits at the top end, the part of [0, U] more than
 //! [`SKIP_DECADES`]/α below U carries less than e^{−40} of the total and is skipped.
 
-use super::special::{cis, exprel};
+use super::special::{cis, cis_small, cmul, exprel};
 use crate::geom::Vec2;
 use kurbo::common::{GAUSS_LEGENDRE_COEFFS_8, GAUSS_LEGENDRE_COEFFS_11, GAUSS_LEGENDRE_COEFFS_16};
 
@@ -50,6 +50,10 @@ pub const NEGLIGIBLE_MASS: f64 = 1e-17;
 /// For α > 0: the stretch of u more than this many e-folds (divided by α) below U is skipped; its
 /// share of the integral is below e^{−40} ≈ 4e-18.
 pub const SKIP_DECADES: f64 = 40.0;
+
+/// The paired node phases use e^{βv} = 1 + βv·exprel(βv) only while |βv| is at most this: below
+/// it the sum cannot cancel (e^{−1} > 0.36); beyond, each node's θ is evaluated directly.
+const PAIR_PHASE_MAX_EXPONENT: f64 = 1.0;
 
 /// Safety cap on the number of panels (each at least halves nothing: rules 1 and 2 make panels of
 /// width ≥ min(4/|α|, …) that grow geometrically where the turning rate decays). Reached only by
@@ -155,15 +159,42 @@ pub(crate) fn integrals(
         let (half, mid) = (0.5 * (hi - lo), 0.5 * (hi + lo));
         let width = hi - lo;
         let size = alpha.abs() * width + rate * width * exprel(beta.abs() * width);
+        // Nodes in ± pairs about the middle (the rules are symmetric): with r = c·e^{β·mid},
+        // θ(mid ± v) = θ(mid) ± r·v·exprel(±βv), exprel(−βv) = exprel(βv)/e^{βv}, and
+        // e^{α(mid ± v)} = e^{α·mid}·e^{±αv}: one expm1 and one exp per pair instead of two of
+        // each per node, and e^{iθ} = e^{iθ(mid)}·e^{iδ} by the small-angle series.
+        let theta_mid = theta(mid);
+        let phase_mid = cis(theta_mid);
+        let rate_mid = c * (beta * mid).exp();
+        let amplitude_mid = (alpha * mid - shift).exp();
         let (mut sum, mut sum_moment) = (Vec2::ZERO, Vec2::ZERO);
-        for &(weight, x) in rule_for(size) {
-            let u = mid + half * x;
-            let th = theta(u);
-            let term = cis(th) * (weight * (alpha * u - shift).exp());
+        let mut add = |weight: f64, delta: f64, amplitude: f64| {
+            let term = cmul(phase_mid, cis_small(delta)) * (weight * amplitude);
             sum += term;
             if with_moment {
-                sum_moment += term * th;
+                sum_moment += term * (theta_mid + delta);
             }
+        };
+        for &(weight, x) in rule_for(size) {
+            if x < 0.0 {
+                continue;
+            }
+            if x == 0.0 {
+                add(weight, 0.0, amplitude_mid);
+                continue;
+            }
+            let v = half * x;
+            let (above, below) = if (beta * v).abs() <= PAIR_PHASE_MAX_EXPONENT {
+                let rel = exprel(beta * v);
+                let grow = 1.0 + beta * v * rel; // e^{βv}
+                (rate_mid * v * rel, -rate_mid * v * rel / grow)
+            } else {
+                (theta(mid + v) - theta_mid, theta(mid - v) - theta_mid)
+            };
+            // |αv| ≤ PANEL_MAX_GROWTH/2: no overflow either way.
+            let up = (alpha * v).exp();
+            add(weight, above, amplitude_mid * up);
+            add(weight, below, amplitude_mid / up);
         }
         acc += sum * half;
         moment += sum_moment * half;
