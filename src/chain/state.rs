@@ -6,7 +6,7 @@ use std::collections::HashMap;
 use std::rc::Rc;
 
 use crate::geom::{Point, Vec2};
-use crate::lac::deviation::points_at;
+use crate::lac::deviation::{Deviation, deviation_near, points_at};
 use crate::lac::yoshida_saito::fit_g1_probe;
 use crate::lac::{LacError, LacSegment, deviation, fit_g1_near, within};
 
@@ -184,6 +184,29 @@ impl State<'_> {
     /// Segment `k`'s samples measured against `segment` (built from the state's data for `k`).
     pub fn measure(&self, k: usize, segment: LacSegment, chord_error: f64) -> Evaluated {
         let d = deviation(&segment, &self.points_of(k), chord_error);
+        self.evaluated(k, segment, d)
+    }
+
+    /// [`State::measure`] for a segment a small step away from `near`'s (a refinement trial): the
+    /// feet are found by Newton's method from `near`'s, rescaled to the new length
+    /// ([`deviation_near`]), and only traced afresh when that fails.
+    pub fn measure_near(
+        &self,
+        k: usize,
+        segment: LacSegment,
+        near: &Evaluated,
+        chord_error: f64,
+    ) -> Evaluated {
+        let points = self.points_of(k);
+        let ratio = segment.length() / near.segment.length();
+        let seeds: Vec<f64> = near.feet.iter().map(|f| f * ratio).collect();
+        let d = deviation_near(&segment, &points, &seeds)
+            .unwrap_or_else(|| deviation(&segment, &points, chord_error));
+        self.evaluated(k, segment, d)
+    }
+
+    /// The evaluation of segment `k` from its samples' distances.
+    fn evaluated(&self, k: usize, segment: LacSegment, d: Deviation) -> Evaluated {
         let mut residuals: Vec<f64> = d
             .distances
             .iter()
@@ -335,7 +358,7 @@ impl State<'_> {
             .enumerate()
             .map(|(k, (segment, old))| match segment {
                 Some(segment) => {
-                    let evaluated = self.measure(k, segment, chord_error);
+                    let evaluated = self.measure_near(k, segment, old, chord_error);
                     let memo_key = self.evaluation_key(k, chord_error);
                     self.memo
                         .0

@@ -88,6 +88,63 @@ pub fn deviation(segment: &LacSegment, samples: &[Point], chord_error: f64) -> D
     summarise(d)
 }
 
+/// Exact distances from `samples` to `segment` by Newton's method on the foot-point equation
+/// started at `seeds` (an arc length per sample: the feet on a nearby segment, rescaled to this
+/// one's length), without tracing a polyline: for a segment a small step away from the one the
+/// seeds came from (a refinement trial), whose feet move by far less than the curve's radius.
+/// The starting points come from one pass along the segment ([`points_at`]). `None` when a foot
+/// does not settle within [`FOOT_NEWTON_STEPS`] or the iteration leaves the foot's basin (the
+/// caller then traces: [`deviation`]).
+pub(crate) fn deviation_near(
+    segment: &LacSegment,
+    samples: &[Point],
+    seeds: &[f64],
+) -> Option<Deviation> {
+    if seeds.len() != samples.len() {
+        return None;
+    }
+    let length = segment.length();
+    let starts = points_at(segment, seeds);
+    let mut d = Deviation {
+        distances: Vec::with_capacity(samples.len()),
+        feet: Vec::with_capacity(samples.len()),
+        sides: Vec::with_capacity(samples.len()),
+        ..Deviation::default()
+    };
+    for ((q, &seed), start) in samples.iter().zip(seeds).zip(starts) {
+        let (mut s, mut p) = (seed.clamp(0.0, length), start);
+        let mut settled = false;
+        for _ in 0..FOOT_NEWTON_STEPS {
+            let (sin, cos) = segment.theta(s).sin_cos();
+            let r = p - *q;
+            let slope = 1.0 + segment.kappa(s) * r.dot(Vec2::new(-sin, cos));
+            if !(slope > 0.0) {
+                return None;
+            }
+            let next = (s - r.dot(Vec2::new(cos, sin)) / slope).clamp(0.0, length);
+            if next == s {
+                settled = true;
+                break;
+            }
+            let small = (next - s).abs() <= FOOT_STEP_TOLERANCE * length;
+            p += integrate(segment, s, next);
+            s = next;
+            if small {
+                settled = true;
+                break;
+            }
+        }
+        if !settled {
+            return None;
+        }
+        let (sin, cos) = segment.theta(s).sin_cos();
+        d.distances.push(q.distance(p));
+        d.feet.push(s);
+        d.sides.push((*q - p).dot(Vec2::new(-sin, cos)).signum());
+    }
+    Some(summarise(d))
+}
+
 /// Distances to the polyline only (exact to `chord_error`): cheaper, for ranking candidates.
 pub fn rough_deviation(segment: &LacSegment, samples: &[Point], chord_error: f64) -> Deviation {
     let polyline = trace(segment, chord_error);
@@ -174,14 +231,18 @@ pub(crate) fn points_at(segment: &LacSegment, s: &[f64]) -> Vec<Point> {
     let length = segment.length();
     let mut at = 0.0;
     let mut p = segment.start();
+    // |κ| at `at`, carried from one point to the next.
+    let mut here = segment.kappa(0.0).abs();
     s.iter()
         .map(|&target| {
             let target = target.clamp(0.0, length);
             if target == length {
                 return segment.end();
             }
-            p += integrate(segment, at, target);
+            let there = segment.kappa(target).abs();
+            p += integrate_within(segment, at, target, here.max(there));
             at = target;
+            here = there;
             p
         })
         .collect()
@@ -192,6 +253,11 @@ pub(crate) fn points_at(segment: &LacSegment, s: &[f64]) -> Vec<Point> {
 /// `b` may be below `a`.
 fn integrate(segment: &LacSegment, a: f64, b: f64) -> Vec2 {
     let kappa = segment.kappa(a).abs().max(segment.kappa(b).abs());
+    integrate_within(segment, a, b, kappa)
+}
+
+/// [`integrate`] with `kappa`, a bound on |κ| over [a, b], given by the caller.
+fn integrate_within(segment: &LacSegment, a: f64, b: f64, kappa: f64) -> Vec2 {
     let turn = kappa * (b - a).abs();
     let steps = ((turn / POLISH_STEP_TURN).ceil() as usize).clamp(1, MAX_POLISH_STEPS);
     let h = (b - a) / steps as f64;
@@ -236,16 +302,29 @@ pub fn trace(segment: &LacSegment, chord_error: f64) -> Vec<(f64, Point)> {
     let mut s0 = 0.0;
     let mut p = segment.start();
     out.push((0.0, p));
+    // |κ| at s0, carried from the previous step when its end was evaluated there.
+    let mut here = segment.kappa(0.0).abs();
     while s0 < length {
-        let mut h = step_for(segment.kappa(s0).abs()).min(length - s0);
-        let far = segment.kappa(s0 + h).abs();
-        h = h.min(step_for(far)).min(length - s0);
+        let first = step_for(here).min(length - s0);
+        let far = segment.kappa(s0 + first).abs();
+        let mut h = first.min(step_for(far)).min(length - s0);
         // Land exactly on the end rather than leave a sliver step.
         if length - (s0 + h) < 0.25 * h {
             h = length - s0;
         }
-        p += integrate(segment, s0, s0 + h);
+        // |κ| is monotonic: the larger of its values at the step's ends bounds it over the step
+        // (`far` still bounds it when the step was shortened; a step stretched to the end ends
+        // at κ1).
+        let end_kappa = if h == first {
+            far
+        } else if h == length - s0 {
+            segment.kappa1().abs()
+        } else {
+            segment.kappa(s0 + h).abs()
+        };
+        p += integrate_within(segment, s0, s0 + h, here.max(end_kappa));
         s0 += h;
+        here = end_kappa;
         out.push((s0, p));
     }
     if let Some(last) = out.last_mut() {
@@ -374,6 +453,46 @@ mod tests {
                 assert!(error < 1e-2 * chord, "alpha {alpha}, s {s}: {error}");
             }
         }
+    }
+
+    #[test]
+    fn feet_from_a_nearby_segment_are_the_traced_feet() {
+        // A refinement trial: the segment moves a little; Newton from the old feet (rescaled)
+        // must land on the feet that tracing finds.
+        let seg = LacSegment::new(Point::new(0.0, 0.0), 0.2, 50.0, Some(0.5), 0.15, 0.02)
+            .expect("segment");
+        let samples: Vec<Point> = (0..41)
+            .map(|i| {
+                let s = 50.0 * i as f64 / 40.0;
+                let th = seg.theta(s);
+                let offset: f64 = if i % 2 == 0 { 0.08 } else { -0.05 };
+                seg.point(s) + Vec2::new(-th.sin(), th.cos()) * offset
+            })
+            .collect();
+        let old = deviation(&seg, &samples, 0.01);
+        let moved = LacSegment::new(
+            Point::new(0.02, -0.01),
+            0.203,
+            50.1,
+            Some(0.55),
+            0.149,
+            0.021,
+        )
+        .expect("segment");
+        let seeds: Vec<f64> = old.feet.iter().map(|f| f * 50.1 / 50.0).collect();
+        let near = deviation_near(&moved, &samples, &seeds).expect("settles");
+        let traced = deviation(&moved, &samples, 0.01);
+        for i in 0..samples.len() {
+            assert!(
+                (near.distances[i] - traced.distances[i]).abs() < 1e-9,
+                "sample {i}"
+            );
+            assert!((near.feet[i] - traced.feet[i]).abs() < 1e-6, "sample {i}");
+            assert_eq!(near.sides[i], traced.sides[i]);
+        }
+        assert!((near.max - traced.max).abs() < 1e-9);
+        // Seeds that do not match the samples are refused, not guessed.
+        assert!(deviation_near(&moved, &samples, &seeds[1..]).is_none());
     }
 
     #[test]
