@@ -63,10 +63,11 @@ pub const SEED_CHORD_FACTOR: f64 = 10.0;
 /// is about h·(κh)⁶/2·10⁶, below 1e-12 of the step at 0.1 rad, while the curvature changes
 /// slowly over the step. Where it changes fast relative to itself the higher derivatives of θ
 /// add to that: over a length of 4 with curvature 0.1 → 2, points were off by 1.7e-10 of the
-/// length at α = 0 and 2.4e-8 at α = 3 (the branch point of θ(s) 5e-4 before the start). Far
-/// below any tolerance a fit uses (≥ 1e-3 of a segment). Steps bounded by |d ln κ/ds| as well,
-/// with a 5-point rule, bring both to 1e-13; written plainly that doubled a fit's cost (the rate
-/// is recomputed per call), so it waits for a per-segment cache.
+/// length at α = 0, 2.4e-8 at α = 3 and 1.3e-7 at α = −3 (the branch point of θ(s) 5e-4
+/// before the start). Far below any tolerance a fit uses (≥ 1e-3 of a segment). Steps bounded
+/// by |d ln κ/ds| as well, with a 5-point rule, bring all to 1e-13; written plainly that doubled
+/// a fit's cost (the rate is recomputed per call), and Taylor-series steps of θ (1e-14) still
+/// cost more per short step than they save: it waits for a stepper that carries its state.
 pub const POLISH_STEP_TURN: f64 = 0.1;
 
 /// Most steps of one integration between vertices or to a foot (the step count follows the
