@@ -456,13 +456,12 @@ mod tests {
         }
     }
 
-    #[test]
-    fn feet_from_a_nearby_segment_are_the_traced_feet() {
-        // A refinement trial: the segment moves a little; Newton from the old feet (rescaled)
-        // must land on the feet that tracing finds.
+    /// A spiral (α = 0.5, S = 50) and samples at s = 50·i/40 for i in `range`, offset along the
+    /// exact normal by 0.08 (even i) or −0.05 (odd i).
+    fn offset_spiral_samples(range: std::ops::Range<usize>) -> (LacSegment, Vec<Point>) {
         let seg = LacSegment::new(Point::new(0.0, 0.0), 0.2, 50.0, Some(0.5), 0.15, 0.02)
             .expect("segment");
-        let samples: Vec<Point> = (0..41)
+        let samples = range
             .map(|i| {
                 let s = 50.0 * i as f64 / 40.0;
                 let th = seg.theta(s);
@@ -470,6 +469,14 @@ mod tests {
                 seg.point(s) + Vec2::new(-th.sin(), th.cos()) * offset
             })
             .collect();
+        (seg, samples)
+    }
+
+    #[test]
+    fn feet_from_a_nearby_segment_are_the_traced_feet() {
+        // A refinement trial: the segment moves a little; Newton from the old feet (rescaled)
+        // must land on the feet that tracing finds.
+        let (seg, samples) = offset_spiral_samples(0..41);
         let old = deviation(&seg, &samples, 0.01);
         let moved = LacSegment::new(
             Point::new(0.02, -0.01),
@@ -499,16 +506,7 @@ mod tests {
     #[test]
     fn polished_distances_are_exact_foot_points() {
         // Samples offset along the exact normal of a spiral come back at exactly their offset.
-        let seg = LacSegment::new(Point::new(0.0, 0.0), 0.2, 50.0, Some(0.5), 0.15, 0.02)
-            .expect("segment");
-        let samples: Vec<Point> = (1..40)
-            .map(|i| {
-                let s = 50.0 * i as f64 / 40.0;
-                let th = seg.theta(s);
-                let offset: f64 = if i % 2 == 0 { 0.08 } else { -0.05 };
-                seg.point(s) + Vec2::new(-th.sin(), th.cos()) * offset
-            })
-            .collect();
+        let (seg, samples) = offset_spiral_samples(1..40);
         let d = deviation(&seg, &samples, 0.01);
         for (i, (x, side)) in d.distances.iter().zip(&d.sides).enumerate() {
             let offset: f64 = if (i + 1) % 2 == 0 { 0.08 } else { -0.05 };
