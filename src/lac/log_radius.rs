@@ -238,6 +238,26 @@ mod tests {
     }
 
     #[test]
+    fn the_rules_come_in_exact_pairs() {
+        // `integrals` takes the nodes in ± pairs: every node but an exact 0 must have its mirror
+        // with the same weight, or a pair would be counted twice or once.
+        for rule in [
+            GAUSS_LEGENDRE_COEFFS_8,
+            GAUSS_LEGENDRE_COEFFS_11,
+            GAUSS_LEGENDRE_COEFFS_16,
+        ] {
+            let weight: f64 = rule.iter().map(|&(w, _)| w).sum();
+            assert!((weight - 2.0).abs() < 1e-14);
+            for &(w, x) in rule.iter().filter(|&&(_, x)| x > 0.0) {
+                assert!(rule.iter().any(|&(v, y)| y == -x && v == w), "{x}");
+            }
+            let zeros = rule.iter().filter(|&&(_, x)| x == 0.0).count();
+            let positive = rule.iter().filter(|&&(_, x)| x > 0.0).count();
+            assert_eq!(2 * positive + zeros, rule.len());
+        }
+    }
+
+    #[test]
     fn zero_curvature_end_matches_arc_length_quadrature() {
         for alpha in [-3.0, -1.0, -0.2, -0.01, -0.004862580243074322] {
             for lambda in [0.1, 1.0, 3.0, 5.996762044496054] {
