@@ -436,8 +436,16 @@ fn jacobian_by_differences(
 
 /// Segment `k`'s drawable margin in `state` (see [`drawable_margin`]).
 fn trial_margin(state: &State<'_>, k: usize) -> Option<f64> {
-    let (a, b) = (state.joints.get(k)?, state.joints.get(k + 1)?);
-    drawable_margin(a.p, a.tangent(), b.p, b.tangent(), *state.alphas.get(k)?)
+    joint_margin(
+        *state.joints.get(k)?,
+        *state.joints.get(k + 1)?,
+        *state.alphas.get(k)?,
+    )
+}
+
+/// The drawable margin of the segment of slope `alpha` joining `a` and `b`.
+fn joint_margin(a: Joint, b: Joint, alpha: f64) -> Option<f64> {
+    drawable_margin(a.p, a.tangent(), b.p, b.tangent(), alpha)
 }
 
 /// A segment held inside its drawable region: the linearised constraint
@@ -471,10 +479,7 @@ impl EdgeConstraint {
             *state.joints.get(k + 1)?,
             *state.alphas.get(k)?,
         );
-        let margin_of = |a: Joint, b: Joint, alpha: f64| {
-            drawable_margin(a.p, a.tangent(), b.p, b.tangent(), alpha)
-        };
-        let margin = margin_of(a, b, alpha)?;
+        let margin = joint_margin(a, b, alpha)?;
         let h_position = MARGIN_POSITION_STEP * a.p.distance(b.p);
         let mut gradient = Vec::with_capacity(range.len());
         for c in range.clone() {
@@ -498,7 +503,7 @@ impl EdgeConstraint {
                     ALPHA_STEP
                 }
             };
-            gradient.push((c, (margin_of(pa, pb, palpha)? - margin) / h));
+            gradient.push((c, (joint_margin(pa, pb, palpha)? - margin) / h));
         }
         Some(EdgeConstraint {
             margin,

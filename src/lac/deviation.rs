@@ -115,35 +115,19 @@ pub(crate) fn deviation_near(
         ..Deviation::default()
     };
     for ((q, &seed), start) in samples.iter().zip(seeds).zip(starts) {
-        let (mut s, mut p) = (seed.clamp(0.0, length), start);
-        let mut settled = false;
-        for _ in 0..FOOT_NEWTON_STEPS {
-            let (sin, cos) = segment.theta(s).sin_cos();
-            let r = p - *q;
-            let slope = 1.0 + segment.kappa(s) * r.dot(Vec2::new(-sin, cos));
-            if !(slope > 0.0) {
-                return None;
-            }
-            let next = (s - r.dot(Vec2::new(cos, sin)) / slope).clamp(0.0, length);
-            if next == s {
-                settled = true;
-                break;
-            }
-            let small = (next - s).abs() <= FOOT_STEP_TOLERANCE * length;
-            p += integrate(segment, s, next);
-            s = next;
-            if small {
-                settled = true;
-                break;
-            }
-        }
+        let (s, p, settled) = newton_foot(
+            segment,
+            *q,
+            seed.clamp(0.0, length),
+            start,
+            |from, to, p| p + integrate(segment, from, to),
+        );
         if !settled {
             return None;
         }
-        let (sin, cos) = segment.theta(s).sin_cos();
         d.distances.push(q.distance(p));
         d.feet.push(s);
-        d.sides.push((*q - p).dot(Vec2::new(-sin, cos)).signum());
+        d.sides.push(side(segment, s, *q, p));
     }
     Some(summarise(d))
 }
@@ -162,34 +146,13 @@ fn polish_feet(
     chord_error: f64,
     d: &mut Deviation,
 ) {
-    let length = segment.length();
     for (i, q) in samples.iter().enumerate() {
-        let mut s = d.feet[i];
-        let mut p = point_near(segment, polyline, s);
-        for _ in 0..FOOT_NEWTON_STEPS {
-            let theta = segment.theta(s);
-            let (t, n) = (
-                Vec2::new(theta.cos(), theta.sin()),
-                Vec2::new(-theta.sin(), theta.cos()),
-            );
-            let r = p - *q;
-            let slope = 1.0 + segment.kappa(s) * r.dot(n);
-            if !(slope > 0.0) {
-                break;
-            }
-            let next = (s - r.dot(t) / slope).clamp(0.0, length);
-            if next == s {
-                break;
-            }
-            let small = (next - s).abs() <= FOOT_STEP_TOLERANCE * length;
-            s = next;
-            p = point_near(segment, polyline, s);
-            if small {
-                break;
-            }
-        }
-        let theta = segment.theta(s);
-        let n = Vec2::new(-theta.sin(), theta.cos());
+        let start = point_near(segment, polyline, d.feet[i]);
+        // Unsettled (a non-positive slope, or the step budget spent): the distance check below
+        // decides whether the last iterate is kept.
+        let (s, p, _) = newton_foot(segment, *q, d.feet[i], start, |_, to, _| {
+            point_near(segment, polyline, to)
+        });
         let distance = q.distance(p);
         // The exact distance differs from the polyline's by at most the chord error (the chords
         // cut inside the curve); anything farther means Newton wandered to another foot, and the
@@ -197,9 +160,49 @@ fn polish_feet(
         if distance <= d.distances[i] + chord_error {
             d.distances[i] = distance;
             d.feet[i] = s;
-            d.sides[i] = (*q - p).dot(n).signum();
+            d.sides[i] = side(segment, s, *q, p);
         }
     }
+}
+
+/// Newton's method on the foot-point equation (P(s) − q)·T(s) = 0 from arc length `s` with point
+/// `p`, the next point found by `move_to(from, to, p)`: the foot's arc length and point, and
+/// whether it settled (a step below [`FOOT_STEP_TOLERANCE`] of the length, or none) rather than
+/// stopping at a non-positive slope or after [`FOOT_NEWTON_STEPS`].
+fn newton_foot(
+    segment: &LacSegment,
+    q: Point,
+    mut s: f64,
+    mut p: Point,
+    mut move_to: impl FnMut(f64, f64, Point) -> Point,
+) -> (f64, Point, bool) {
+    let length = segment.length();
+    for _ in 0..FOOT_NEWTON_STEPS {
+        let (sin, cos) = segment.theta(s).sin_cos();
+        let r = p - q;
+        let slope = 1.0 + segment.kappa(s) * r.dot(Vec2::new(-sin, cos));
+        if !(slope > 0.0) {
+            return (s, p, false);
+        }
+        let next = (s - r.dot(Vec2::new(cos, sin)) / slope).clamp(0.0, length);
+        if next == s {
+            return (s, p, true);
+        }
+        let small = (next - s).abs() <= FOOT_STEP_TOLERANCE * length;
+        p = move_to(s, next, p);
+        s = next;
+        if small {
+            return (s, p, true);
+        }
+    }
+    (s, p, false)
+}
+
+/// The side of `q` relative to the segment at its foot `p` (arc length `s`): +1 left of the
+/// direction of travel, −1 right, 0 on it.
+fn side(segment: &LacSegment, s: f64, q: Point, p: Point) -> f64 {
+    let (sin, cos) = segment.theta(s).sin_cos();
+    (q - p).dot(Vec2::new(-sin, cos)).signum()
 }
 
 /// The segment's point at arc length `s`, integrated from the nearest polyline vertex with the

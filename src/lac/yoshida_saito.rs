@@ -254,6 +254,44 @@ pub(crate) fn fit_g1_probe(
     build(a, ta, b, tb, alpha, Some(near), true)
 }
 
+/// G1 data in the normalised frame of the module doc.
+#[derive(Clone, Copy, Debug)]
+struct Normalised {
+    /// Direction of the start tangent.
+    angle_a: f64,
+    /// θ_A = ψ − arg t_A and θ_B = arg t_B − ψ, ψ the chord's direction, wrapped to (−π, π].
+    theta_a: f64,
+    theta_b: f64,
+    /// The mirror that makes the turning non-negative (±1).
+    sigma: f64,
+    /// σ·θ_A and σ·θ_B.
+    ea: f64,
+    eb: f64,
+    /// The total turning θ_T = ea + eb ≥ 0.
+    theta_t: f64,
+}
+
+impl Normalised {
+    /// The angles of tangents `ta`, `tb` to `chord` (non-zero vectors).
+    fn new(chord: Vec2, ta: Vec2, tb: Vec2) -> Self {
+        let psi = chord.atan2();
+        let angle_a = ta.atan2();
+        let theta_a = wrap(psi - angle_a);
+        let theta_b = wrap(tb.atan2() - psi);
+        let sigma = if theta_a + theta_b >= 0.0 { 1.0 } else { -1.0 };
+        let (ea, eb) = (sigma * theta_a, sigma * theta_b);
+        Normalised {
+            angle_a,
+            theta_a,
+            theta_b,
+            sigma,
+            ea,
+            eb,
+            theta_t: ea + eb,
+        }
+    }
+}
+
 /// The body of [`fit_g1_near`] and [`fit_g1_probe`].
 fn build(
     a: Point,
@@ -296,19 +334,20 @@ fn build(
     if c <= COINCIDENT_RELATIVE * magnitude || c < 1e-300 {
         return Err(LacError::CoincidentEndPoints);
     }
-    let psi = chord.atan2();
-    let angle_a = ta.atan2();
-    let theta_a = wrap(psi - angle_a);
-    let theta_b = wrap(tb.atan2() - psi);
+    let Normalised {
+        angle_a,
+        theta_a,
+        theta_b,
+        sigma,
+        ea,
+        eb,
+        theta_t,
+    } = Normalised::new(chord, ta, tb);
     let outside = || LacError::OutsideDrawableRegion {
         theta_a,
         theta_b,
         alpha,
     };
-
-    let sigma = if theta_a + theta_b >= 0.0 { 1.0 } else { -1.0 };
-    let (ea, eb) = (sigma * theta_a, sigma * theta_b);
-    let theta_t = ea + eb;
 
     if (ea - eb).abs() <= SYMMETRIC_TOLERANCE {
         // Circular arc (line when θ_T = 0): κ = 2 sin(θ_T/2)/c, S = c/sinc(θ_T/2).
@@ -409,12 +448,9 @@ pub(crate) fn drawable_margin(a: Point, ta: Vec2, b: Point, tb: Vec2, alpha: f64
     if !finite || chord.hypot2() == 0.0 || ta.hypot2() == 0.0 || tb.hypot2() == 0.0 {
         return None;
     }
-    let psi = chord.atan2();
-    let theta_a = wrap(psi - ta.atan2());
-    let theta_b = wrap(tb.atan2() - psi);
-    let sigma = if theta_a + theta_b >= 0.0 { 1.0 } else { -1.0 };
-    let (ea, eb) = (sigma * theta_a, sigma * theta_b);
-    let theta_t = ea + eb;
+    let Normalised {
+        ea, eb, theta_t, ..
+    } = Normalised::new(chord, ta, tb);
     if (ea - eb).abs() <= SYMMETRIC_TOLERANCE {
         // A circular arc or a line: any α draws it.
         return Some(0.5 * theta_t);
