@@ -1,6 +1,7 @@
 //! Fits every fixture stroke of up to 600 samples through the whole pipeline, one line each (best
-//! time of `REPS` rounds, default 3; samples; segments): a profiling aid, not a benchmark (that is
-//! `cargo bench --bench lac`). The instruction counts in the README come from
+//! time of `REPS` rounds, default 3; samples; segments), then the totals with the mean over
+//! strokes of the rms sample distance relative to the tolerance (the fit's quality, to read
+//! beside the speed): a profiling aid, not a benchmark (that is `cargo bench --bench lac`). The instruction counts in the README come from
 //! `REPS=1 valgrind --tool=callgrind target/release/examples/fit_fixture_strokes`.
 //! Arguments filter the files by name; `ONLY=i` keeps stroke i of each.
 use kansei::pipeline::{PipelineOptions, fit_stroke};
@@ -22,6 +23,8 @@ fn main() {
         .collect();
     dir.sort();
     let (mut strokes, mut segments) = (0usize, 0usize);
+    // Sum over strokes of the chain's rms sample distance relative to the tolerance.
+    let mut relative_rms = 0.0;
     for path in dir {
         if !args.is_empty()
             && !args
@@ -49,11 +52,23 @@ fn main() {
             }
             let mut best = f64::INFINITY;
             let mut segs = 0;
+            let mut rms = 0.0;
             for _ in 0..reps {
                 let t = Instant::now();
                 let r = fit_stroke(s, i, tol, &options);
                 best = best.min(t.elapsed().as_secs_f64());
                 if let Ok(f) = r {
+                    let (mut squares, mut count) = (0.0, 0usize);
+                    for segment in f
+                        .iter()
+                        .filter_map(|c| c.chain.as_ref())
+                        .flat_map(|c| &c.segments)
+                    {
+                        let n = (segment.samples.1 + 1).saturating_sub(segment.samples.0);
+                        squares += segment.rms_deviation.powi(2) * n as f64;
+                        count += n;
+                    }
+                    rms = (squares / count.max(1) as f64).sqrt() / tol;
                     segs = f
                         .iter()
                         .filter_map(|c| c.chain.as_ref())
@@ -63,6 +78,7 @@ fn main() {
             }
             strokes += 1;
             segments += segs;
+            relative_rms += rms;
             println!(
                 "{:8.2} ms  {:4} samples {:3} segs  {}#{}",
                 best * 1e3,
@@ -73,5 +89,8 @@ fn main() {
             );
         }
     }
-    println!("{strokes} strokes, {segments} segments");
+    println!(
+        "{strokes} strokes, {segments} segments, mean rms/tolerance {:.4}",
+        relative_rms / strokes.max(1) as f64
+    );
 }

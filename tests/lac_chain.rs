@@ -254,3 +254,26 @@ fn the_seed_configuration_fits_every_fixture_stroke() {
         }
     }
 }
+
+#[test]
+fn a_sparsely_sampled_curve_is_one_segment() {
+    // Twelve samples along one LAC (a fast pen: up to 14 mm apart), noise 0.02 mm against a
+    // 0.1 mm tolerance: one segment holds them all, whatever spans the B-spline between so few
+    // samples is split into.
+    for alpha in [-1.0, 0.0, 1.0, 2.0] {
+        for (turning, seed) in [(60.0f64, 11), (120.0, 12)] {
+            let planted = planted_segment(alpha, 100.0, 4.0, turning.to_radians());
+            let stroke = pen_stroke(&planted, 11, 0, 0.02, seed);
+            let fits = fit_stroke(&stroke, 0, 0.1, &PipelineOptions::default()).expect("fit");
+            assert_eq!(fits.len(), 1, "alpha {alpha}, turning {turning}: pieces");
+            let chain = chain_of(&fits[0]);
+            assert!(chain.within_tolerance, "alpha {alpha}, turning {turning}");
+            assert_eq!(
+                chain.segments.len(),
+                1,
+                "alpha {alpha}, turning {turning}: {} segments",
+                chain.segments.len()
+            );
+        }
+    }
+}

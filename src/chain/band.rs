@@ -43,18 +43,22 @@ impl Band {
         }
     }
 
-    /// Solves `self · x = b` by Cholesky (LLᵀ); `None` if not positive definite.
-    pub fn solve(&self, b: &[f64]) -> Option<Vec<f64>> {
+    /// The Cholesky factor L (A = L·Lᵀ, L lower band of the same width); `None` unless A is
+    /// positive definite.
+    pub fn factor(&self) -> Option<BandCholesky> {
         let (n, p) = (self.n, self.p);
         let w = p + 1;
         let mut l = self.lower.clone();
         for i in 0..n {
             let j0 = i.saturating_sub(p);
             for j in j0..=i {
-                let mut sum = l[i * w + (i - j)];
+                // Σ_k L(i,k)·L(j,k) over the columns both rows share, k in [max(j0, j − p), j).
                 let k0 = j0.max(j.saturating_sub(p));
+                let row_i = &l[i * w..i * w + w];
+                let row_j = &l[j * w..j * w + w];
+                let mut sum = row_i[i - j];
                 for k in k0..j {
-                    sum -= l[i * w + (i - k)] * l[j * w + (j - k)];
+                    sum -= row_i[i - k] * row_j[j - k];
                 }
                 if i == j {
                     if !(sum > 0.0) {
@@ -66,7 +70,31 @@ impl Band {
                 }
             }
         }
-        // Forward: L y = b.
+        Some(BandCholesky { n, p, l })
+    }
+
+    /// Solves A·x = b; `None` unless A is positive definite.
+    #[cfg(test)]
+    pub fn solve(&self, b: &[f64]) -> Option<Vec<f64>> {
+        Some(self.factor()?.solve(b))
+    }
+}
+
+/// The Cholesky factor of a [`Band`]: factored once, it solves for any number of right-hand
+/// sides at O(n·p) each.
+#[derive(Clone, Debug)]
+pub(crate) struct BandCholesky {
+    n: usize,
+    p: usize,
+    /// L in the layout of [`Band::lower`].
+    l: Vec<f64>,
+}
+
+impl BandCholesky {
+    /// Solves L·Lᵀ·x = b (`b` of length n).
+    pub fn solve(&self, b: &[f64]) -> Vec<f64> {
+        let (n, p, l) = (self.n, self.p, &self.l);
+        let w = p + 1;
         let mut y = b.to_vec();
         for i in 0..n {
             let mut sum = y[i];
@@ -75,7 +103,6 @@ impl Band {
             }
             y[i] = sum / l[i * w];
         }
-        // Backward: Lᵀ x = y.
         for i in (0..n).rev() {
             let mut sum = y[i];
             for k in i + 1..(i + p + 1).min(n) {
@@ -83,7 +110,7 @@ impl Band {
             }
             y[i] = sum / l[i * w];
         }
-        Some(y)
+        y
     }
 }
 

@@ -193,6 +193,15 @@ pub fn fit_chain(
     let fitter = Fitter::new(input, tolerance, options);
     let (mut state, mut searches) = fitter.initial()?;
     fitter.repair(&mut state, &mut searches)?;
+    // Merge before refining as well as after: most of the B-spline's spans are noise (over the
+    // fixture strokes up to 600 samples, 60 % hold at most one sample), and the refinement then
+    // works on the chain the data need (1 066 segments in the end instead of 1 140, the rms
+    // distance unchanged).
+    if options.merge {
+        fitter.straighten(&mut state, &mut searches);
+        fitter.merge(&mut state, &mut searches);
+        fitter.repair(&mut state, &mut searches)?;
+    }
     let refine_options = fitter.refine_options(&state);
     if options.refine {
         fitter.refine_guarded(&mut state, &refine_options);
@@ -318,12 +327,7 @@ impl<'a> Fitter<'a> {
         let points: Vec<Point> = if samples.len() >= MIN_SPAN_SAMPLES {
             samples.iter().map(|&i| self.input.points[i]).collect()
         } else {
-            (0..SPAN_REFERENCE_POINTS)
-                .map(|i| {
-                    let f = (i as f64 + 0.5) / SPAN_REFERENCE_POINTS as f64;
-                    self.pieces.eval_derivs(u.0 + f * (u.1 - u.0)).0
-                })
-                .collect()
+            self.reference_points(u)
         };
         let fit = fit_span(
             a.p,
@@ -342,6 +346,17 @@ impl<'a> Fitter<'a> {
         Ok((alpha, fit.search))
     }
 
+    /// [`SPAN_REFERENCE_POINTS`] B-spline points spread over `[u.0, u.1]`: they stand in for the
+    /// samples where a span has too few to decide its shape.
+    fn reference_points(&self, u: (f64, f64)) -> Vec<Point> {
+        (0..SPAN_REFERENCE_POINTS)
+            .map(|i| {
+                let f = (i as f64 + 0.5) / SPAN_REFERENCE_POINTS as f64;
+                self.pieces.eval_derivs(u.0 + f * (u.1 - u.0)).0
+            })
+            .collect()
+    }
+
     fn joint_at(&self, u: f64, kind: JointKind) -> Joint {
         let (p, t) = self.g1(u);
         Joint {
@@ -349,6 +364,7 @@ impl<'a> Fitter<'a> {
             angle: t.y.atan2(t.x),
             kind,
             fixed: kind == JointKind::Corner,
+            u,
         }
     }
 
@@ -555,6 +571,7 @@ impl<'a> Fitter<'a> {
                 angle: s0.theta1(),
                 kind: JointKind::Subdivision,
                 fixed: false,
+                u: 0.5 * (a.u + b.u),
             };
             // Each sample goes to the arc it is nearer to.
             let d0 = deviation(&s0, &reference, self.chord_error);
@@ -645,7 +662,12 @@ impl<'a> Fitter<'a> {
     /// Removes joints at curvature extrema, subdivisions and inflections where one segment covers
     /// both neighbours' samples within the tolerance. The data decide: a B-spline inflection
     /// that one single-signed segment can absorb was noise (near-straight stretches flip the
-    /// sign again and again), and a real one cannot be absorbed. Returns whether any was removed.
+    /// sign again and again), and a real one cannot be absorbed. Where the two hold fewer than
+    /// [`MIN_SPAN_SAMPLES`] samples, the merged segment must also stay within the tolerance of
+    /// the B-spline between the joints (its α is searched on B-spline points, as for a short
+    /// span): the few samples cannot decide the shape, but they cannot justify a joint either
+    /// (over the fixture strokes up to 600 samples, merging these too leaves 843 segments instead
+    /// of 1 140, the rms distance unchanged). Returns whether any was removed.
     fn merge(&self, state: &mut State<'a>, searches: &mut Vec<AlphaSearch>) -> bool {
         let mut merged = false;
         let mut j = 1;
@@ -667,15 +689,21 @@ impl<'a> Fitter<'a> {
                     state.samples[j].len() as f64,
                 );
                 let guess = (n0 * state.alphas[j - 1] + n1 * state.alphas[j]) / (n0 + n1).max(1.0);
-                if union.len() >= MIN_SPAN_SAMPLES
-                    && let Ok((alpha, search)) =
-                        self.search(&a, &b, &union, (0.0, 0.0), Some(guess))
-                {
+                // Too few samples to decide the merged shape: it must also follow the B-spline.
+                let reference =
+                    (union.len() < MIN_SPAN_SAMPLES).then(|| self.reference_points((a.u, b.u)));
+                if let Ok((alpha, search)) = self.search(&a, &b, &union, (a.u, b.u), Some(guess)) {
                     let mut trial = state.clone();
                     trial.joints.remove(j);
                     trial.alphas.splice(j - 1..=j, [alpha]);
                     trial.samples.splice(j - 1..=j, [union]);
+                    let follows = |points: &[Point]| {
+                        trial.segment(j - 1).is_ok_and(|s| {
+                            deviation(&s, points, self.chord_error).max <= self.tolerance
+                        })
+                    };
                     if matches!(trial.evaluate(j - 1, self.chord_error), Ok(e) if e.max <= self.tolerance)
+                        && reference.as_deref().is_none_or(follows)
                     {
                         *state = trial;
                         searches.splice(j - 1..=j, [search]);

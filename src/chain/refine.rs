@@ -22,10 +22,10 @@
 //! the held segments, `keep_inside`). Damping alone cannot do that: at the edge every damped step
 //! still points outside, only shorter, and the whole chain stalls.
 
-use super::band::Band;
-use super::state::{Evaluated, Joint, State, cost, model_at_feet};
+use super::band::{Band, BandCholesky};
+use super::state::{Evaluated, Joint, Rejected, State, cost, model_at_feet};
 use crate::geom::Vec2;
-use crate::lac::yoshida_saito::drawable_margin;
+use crate::lac::yoshida_saito::{drawable_margin, edge_margins, mirror};
 
 /// Options of [`refine`].
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -210,6 +210,7 @@ pub(crate) fn refine(state: &mut State<'_>, options: &RefineOptions) -> Option<R
         let mut edges: Vec<EdgeConstraint> = held
             .iter()
             .filter_map(|&k| EdgeConstraint::at(state, k, &unknowns, &ranges[k]))
+            .flatten()
             .collect();
         let mut improved = false;
         let mut tries = 0;
@@ -220,7 +221,10 @@ pub(crate) fn refine(state: &mut State<'_>, options: &RefineOptions) -> Option<R
                 // Marquardt's scaling, with a floor for unknowns the data barely see.
                 a.add(i, i, lambda * jtj.get(i, i).max(f64::MIN_POSITIVE.sqrt()));
             }
-            let Some(delta) = a.solve(&jtr).and_then(|d| keep_inside(&a, d, &edges)) else {
+            let Some(delta) = a
+                .factor()
+                .and_then(|f| keep_inside(&f, f.solve(&jtr), &edges))
+            else {
                 lambda *= 10.0;
                 continue;
             };
@@ -228,7 +232,9 @@ pub(crate) fn refine(state: &mut State<'_>, options: &RefineOptions) -> Option<R
             for (c, &u) in unknowns.iter().enumerate() {
                 add(&mut trial, u, -delta[c], options);
             }
-            match trial.evaluate_all_from(options.chord_error, state, &current, unbuildable) {
+            let bound = current_cost;
+            match trial.evaluate_all_from(options.chord_error, state, &current, unbuildable, bound)
+            {
                 Ok(e) if cost(&e) < current_cost => {
                     let new_cost = cost(&e);
                     let decrease = (current_cost - new_cost) / current_cost;
@@ -241,22 +247,22 @@ pub(crate) fn refine(state: &mut State<'_>, options: &RefineOptions) -> Option<R
                     improved = decrease > CONVERGED && rms_gain > CONVERGED_RMS;
                     break;
                 }
-                Err(k) => {
+                Err(Rejected::Unbuildable(k)) => {
                     unbuildable = Some(k);
                     // Left the drawable region: hold the segment inside it (same damping) the
                     // first time; any other failure, or a held segment failing again, damps.
                     let outside = trial_margin(&trial, k).is_some_and(|m| m < 0.0);
                     if outside
                         && !held.contains(&k)
-                        && let Some(edge) = EdgeConstraint::at(state, k, &unknowns, &ranges[k])
+                        && let Some(pair) = EdgeConstraint::at(state, k, &unknowns, &ranges[k])
                     {
                         held.push(k);
-                        edges.push(edge);
+                        edges.extend(pair);
                     } else {
                         lambda *= LAMBDA_GROWTH;
                     }
                 }
-                Ok(_) => lambda *= LAMBDA_GROWTH,
+                Ok(_) | Err(Rejected::Worse) => lambda *= LAMBDA_GROWTH,
             }
         }
         if !improved {
@@ -448,13 +454,15 @@ fn joint_margin(a: Joint, b: Joint, alpha: f64) -> Option<f64> {
     drawable_margin(a.p, a.tangent(), b.p, b.tangent(), alpha)
 }
 
-/// A segment held inside its drawable region: the linearised constraint
-/// m + ∇m·δ ≥ target on the step δ, with m its [`drawable_margin`] at the iterate.
+/// One edge of a segment's drawable region, held: the linearised constraint m + ∇m·δ ≥ target
+/// on the step δ, with m the edge's margin at the iterate (see [`edge_margins`]).
 ///
 /// Without it, a segment at the edge of its region (where the α search or an earlier step often
 /// leaves it: the data want an α beyond the edge) blocks the whole chain: the Gauss–Newton step
 /// points outside, and so does every damped step, which only shrinks it. Held, the step slides
-/// along the edge instead.
+/// along the edge instead. Both edges of the region are held, in the mirror frame of the
+/// iterate: a near-straight segment's region is a wedge narrower than a step, and one edge alone
+/// let the step leave through the other or through the apex.
 #[derive(Clone, Debug)]
 struct EdgeConstraint {
     /// Margin at the iterate.
@@ -466,22 +474,29 @@ struct EdgeConstraint {
 }
 
 impl EdgeConstraint {
-    /// The constraint of segment `k` at `state` (forward differences of the margin over the
-    /// unknowns in `range`); `None` where the margin is undefined.
+    /// The two edge constraints of segment `k` at `state` (forward differences of the margins
+    /// over the unknowns in `range`); `None` where the margins are undefined.
     fn at(
         state: &State<'_>,
         k: usize,
         unknowns: &[Unknown],
         range: &std::ops::Range<usize>,
-    ) -> Option<Self> {
+    ) -> Option<[Self; 2]> {
         let (a, b, alpha) = (
             *state.joints.get(k)?,
             *state.joints.get(k + 1)?,
             *state.alphas.get(k)?,
         );
-        let margin = joint_margin(a, b, alpha)?;
+        let sigma = mirror(a.p, a.tangent(), b.p, b.tangent())?;
+        let margins = |a: Joint, b: Joint, alpha: f64| {
+            edge_margins(a.p, a.tangent(), b.p, b.tangent(), alpha, sigma)
+        };
+        let at = margins(a, b, alpha)?;
         let h_position = MARGIN_POSITION_STEP * a.p.distance(b.p);
-        let mut gradient = Vec::with_capacity(range.len());
+        let mut gradients = [
+            Vec::with_capacity(range.len()),
+            Vec::with_capacity(range.len()),
+        ];
         for c in range.clone() {
             let (mut pa, mut pb, mut palpha) = (a, b, alpha);
             let h = match unknowns[c] {
@@ -503,13 +518,18 @@ impl EdgeConstraint {
                     ALPHA_STEP
                 }
             };
-            gradient.push((c, (joint_margin(pa, pb, palpha)? - margin) / h));
+            let moved = margins(pa, pb, palpha)?;
+            for (g, (m1, m0)) in gradients.iter_mut().zip(moved.iter().zip(&at)) {
+                g.push((c, (m1 - m0) / h));
+            }
         }
-        Some(EdgeConstraint {
+        let [g0, g1] = gradients;
+        let edge = |margin: f64, gradient| EdgeConstraint {
             margin,
             target: margin.min((0.5 * margin).max(EDGE_MARGIN)),
             gradient,
-        })
+        };
+        Some([edge(at[0], g0), edge(at[1], g1)])
     }
 
     /// The linearised margin after the step x ← x − `delta`, less the target.
@@ -523,7 +543,7 @@ impl EdgeConstraint {
 /// `a`'s metric that keeps every constraint's slack ≥ 0: δ' = δ − Σ μᵢ·a⁻¹∇mᵢ with μ ≥ 0 from the
 /// active constraints' normal equations (an active set grown by the violated constraints, and
 /// shrunk by those whose multiplier turns negative). `None` if a solve fails.
-fn keep_inside(a: &Band, delta: Vec<f64>, edges: &[EdgeConstraint]) -> Option<Vec<f64>> {
+fn keep_inside(a: &BandCholesky, delta: Vec<f64>, edges: &[EdgeConstraint]) -> Option<Vec<f64>> {
     if edges.iter().all(|e| e.slack(&delta) >= 0.0) {
         return Some(delta);
     }
@@ -536,10 +556,7 @@ fn keep_inside(a: &Band, delta: Vec<f64>, edges: &[EdgeConstraint]) -> Option<Ve
         g
     };
     // a⁻¹∇mᵢ for every constraint (few: the segments held at an edge).
-    let inverse: Vec<Vec<f64>> = edges
-        .iter()
-        .map(|e| a.solve(&dense(e)))
-        .collect::<Option<_>>()?;
+    let inverse: Vec<Vec<f64>> = edges.iter().map(|e| a.solve(&dense(e))).collect();
     let mut active: Vec<usize> = Vec::new();
     let mut result = delta.clone();
     for _ in 0..=2 * edges.len() {
@@ -649,7 +666,8 @@ mod tests {
                     gradient: vec![(4, -0.2), (5, 1.0 - 0.1 * case as f64), (6, 0.4)],
                 },
             ];
-            let out = keep_inside(&a, delta.clone(), &edges).expect("solvable");
+            let factor = a.factor().expect("positive definite");
+            let out = keep_inside(&factor, delta.clone(), &edges).expect("solvable");
             for e in &edges {
                 assert!(
                     e.slack(&out) >= -1e-12,
@@ -698,6 +716,7 @@ mod tests {
             angle,
             kind,
             fixed: false,
+            u: 0.0,
         };
         let joints = vec![
             joint(Point::new(0.1, -0.05), 0.31, JointKind::Start),

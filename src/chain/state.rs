@@ -23,6 +23,9 @@ pub(crate) struct Joint {
     pub kind: JointKind,
     /// Whether the position is held (a corner shared with the neighbouring piece).
     pub fixed: bool,
+    /// The B-spline parameter the joint was taken at (refinement moves the joint off the
+    /// B-spline; this stays where it came from, to find the B-spline between two joints).
+    pub u: f64,
 }
 
 impl Joint {
@@ -329,15 +332,17 @@ impl State<'_> {
     /// many segments): a segment built from the same data as in `base` is taken over, the others
     /// are built warm-started from `base`'s. All segments are built before any is measured, and
     /// segment `first` (when given: the one that failed last time) before the others, so that a
-    /// state with an unbuildable segment costs as few constructions as possible; on failure, the
-    /// index of the segment that cannot be built.
+    /// state with an unbuildable segment costs as few constructions as possible. The measuring
+    /// stops as soon as the cost (sum of squared residuals, see [`cost`]) exceeds `bound`: a
+    /// trial worse than the iterate it would replace needs no more.
     pub fn evaluate_all_from(
         &self,
         chord_error: f64,
         base: &State<'_>,
         evaluated: &[Evaluated],
         first: Option<usize>,
-    ) -> Result<Vec<Evaluated>, usize> {
+        bound: f64,
+    ) -> Result<Vec<Evaluated>, Rejected> {
         let n = self.len().min(evaluated.len());
         let mut built: Vec<Option<LacSegment>> = vec![None; n];
         let order = first
@@ -348,17 +353,26 @@ impl State<'_> {
             if !self.same_segment(base, k) {
                 built[k] = Some(
                     self.segment_near(k, Some(&evaluated[k].segment))
-                        .map_err(|_| k)?,
+                        .map_err(|_| Rejected::Unbuildable(k))?,
                 );
             }
         }
-        Ok(built
-            .into_iter()
+        // The segments taken over count first: they cost nothing to measure.
+        let mut total: f64 = built
+            .iter()
             .zip(evaluated)
-            .enumerate()
-            .map(|(k, (segment, old))| match segment {
+            .filter(|(b, _)| b.is_none())
+            .map(|(_, e)| cost(std::slice::from_ref(e)))
+            .sum();
+        let mut out = Vec::with_capacity(n);
+        for (k, (segment, old)) in built.into_iter().zip(evaluated).enumerate() {
+            out.push(match segment {
                 Some(segment) => {
                     let evaluated = self.measure_near(k, segment, old, chord_error);
+                    total += cost(std::slice::from_ref(&evaluated));
+                    if total > bound {
+                        return Err(Rejected::Worse);
+                    }
                     let memo_key = self.evaluation_key(k, chord_error);
                     self.memo
                         .0
@@ -368,9 +382,19 @@ impl State<'_> {
                     evaluated
                 }
                 None => old.clone(),
-            })
-            .collect())
+            });
+        }
+        Ok(out)
     }
+}
+
+/// Why [`State::evaluate_all_from`] gave up on a state.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(crate) enum Rejected {
+    /// This segment cannot be built.
+    Unbuildable(usize),
+    /// The cost exceeds the bound.
+    Worse,
 }
 
 /// Sum of squared residuals.

@@ -77,13 +77,25 @@ pub const POLISH_STEP_TURN: f64 = 0.1;
 /// extreme curvature).
 const MAX_POLISH_STEPS: usize = 64;
 
-/// Exact distances from `samples` (ordered along the segment) to `segment`: the polyline foot
-/// (see [`project_ordered`], traced at [`SEED_CHORD_FACTOR`] times `chord_error`) polished by
-/// Newton's method on the foot-point equation (P(s) − q)·T(s) = 0, with P(s) integrated from the
-/// nearest polyline vertex. Exact to the integration's accuracy ([`POLISH_STEP_TURN`]) and smooth
-/// in the segment's parameters (the chain
-/// refinement differentiates it).
+/// Exact distances from `samples` (ordered along the segment) to `segment`, by Newton's method
+/// on the foot-point equation (P(s) − q)·T(s) = 0. First by marching from foot to foot along the
+/// segment (`marched`: the work follows the samples); where that does not settle, from the
+/// polyline foot (see [`project_ordered`], traced at [`SEED_CHORD_FACTOR`] times `chord_error`),
+/// with P(s) integrated from the nearest polyline vertex. Exact to the integration's accuracy
+/// ([`POLISH_STEP_TURN`]) and smooth in the segment's parameters (the chain refinement
+/// differentiates it). Every distance is to a point of the segment, so none is below the true
+/// one: a tolerance checked on them holds.
+///
+/// Marching instead of tracing first, over the fixture strokes up to 600 samples: 3 % fewer
+/// instructions on the median stroke (7 % more in all: long, densely sampled strokes), and the α
+/// searches, ranking by exact distances instead of a polyline's, end with a lower rms distance
+/// (0.245 of the tolerance against 0.256).
 pub fn deviation(segment: &LacSegment, samples: &[Point], chord_error: f64) -> Deviation {
+    marched(segment, samples).unwrap_or_else(|| traced(segment, samples, chord_error))
+}
+
+/// [`deviation`] from polyline feet (the fallback where marching does not settle).
+fn traced(segment: &LacSegment, samples: &[Point], chord_error: f64) -> Deviation {
     let seed = SEED_CHORD_FACTOR * chord_error;
     let polyline = trace(segment, seed);
     let mut d = project_raw(&polyline, samples);
@@ -130,6 +142,60 @@ pub(crate) fn deviation_near(
         d.sides.push(side(segment, s, *q, p));
     }
     Some(summarise(d))
+}
+
+/// Exact distances from `samples` (ordered along the segment) to `segment` by Newton's method
+/// on the foot-point equation, marching along the segment from one sample's foot to the next
+/// (each seeded one chord between the samples beyond the previous foot; the first by its
+/// projection on the start tangent): no polyline, so the work follows the samples, not the
+/// segment's length and curvature. Each distance is to a point of the segment, so never below
+/// the true one. `None` (the caller traces instead) when a foot does not settle, leaves its
+/// basin, or the feet do not advance along the segment as the samples do.
+pub(crate) fn marched(segment: &LacSegment, samples: &[Point]) -> Option<Deviation> {
+    let length = segment.length();
+    let mut d = Deviation {
+        distances: Vec::with_capacity(samples.len()),
+        feet: Vec::with_capacity(samples.len()),
+        sides: Vec::with_capacity(samples.len()),
+        ..Deviation::default()
+    };
+    let (mut s, mut p) = (0.0, segment.start());
+    let mut previous: Option<Point> = None;
+    for q in samples {
+        let seed = match previous {
+            Some(before) => (s + q.distance(before)).min(length),
+            None => {
+                let (sin, cos) = segment.theta0().sin_cos();
+                (*q - p).dot(Vec2::new(cos, sin)).clamp(0.0, length)
+            }
+        };
+        p = move_along(segment, s, seed, p);
+        let (foot, at, settled) = newton_foot(segment, *q, seed, p, |from, to, p| {
+            move_along(segment, from, to, p)
+        });
+        if !settled || foot < s {
+            return None;
+        }
+        d.distances.push(q.distance(at));
+        d.feet.push(foot);
+        d.sides.push(side(segment, foot, *q, at));
+        (s, p) = (foot, at);
+        previous = Some(*q);
+    }
+    Some(summarise(d))
+}
+
+/// The segment's point at arc length `to`, given its point `p` at `from`: integrated from there,
+/// except at the ends, which are known exactly (a march's integration error, see
+/// [`POLISH_STEP_TURN`], does not reach a foot at either end).
+fn move_along(segment: &LacSegment, from: f64, to: f64, p: Point) -> Point {
+    if to == segment.length() {
+        segment.end()
+    } else if to == 0.0 {
+        segment.start()
+    } else {
+        p + integrate(segment, from, to)
+    }
 }
 
 /// Distances to the polyline only (exact to `chord_error`): cheaper, for ranking candidates.
@@ -478,6 +544,51 @@ mod tests {
     }
 
     #[test]
+    fn marched_feet_are_the_traced_feet() {
+        // Samples on both sides of a spiral, and beyond both ends (their feet are the ends).
+        for alpha in [-2.0, -1.0, 0.0, 0.5, 1.0, 2.0] {
+            let seg = LacSegment::new(Point::new(1.0, 2.0), 0.2, 50.0, Some(alpha), 0.15, 0.02)
+                .expect("segment");
+            let samples: Vec<Point> = (-2..43)
+                .map(|i| {
+                    let s = 50.0 * i as f64 / 40.0;
+                    let th = seg.theta(s);
+                    let offset: f64 = if i % 2 == 0 { 0.3 } else { -0.2 };
+                    let beyond = (s - s.clamp(0.0, 50.0)) * Vec2::new(th.cos(), th.sin());
+                    seg.point(s) + beyond + Vec2::new(-th.sin(), th.cos()) * offset
+                })
+                .collect();
+            let marched = marched(&seg, &samples).expect("settles");
+            let traced = traced(&seg, &samples, 1e-3);
+            for i in 0..samples.len() {
+                let (m, t) = (marched.distances[i], traced.distances[i]);
+                // Both integrate with the polish's 3-point rule, each from its own points
+                // (the march from foot to foot, the polish from polyline vertices): they agree
+                // to that rule's accuracy, a few 1e-9 of the length where the curvature changes
+                // fast (see POLISH_STEP_TURN).
+                assert!(
+                    (m - t).abs() < 1e-7,
+                    "α {alpha}, sample {i}: {m} against {t}"
+                );
+                assert!(
+                    (marched.feet[i] - traced.feet[i]).abs() < 1e-6,
+                    "sample {i}"
+                );
+                assert_eq!(marched.sides[i], traced.sides[i]);
+            }
+            assert_eq!(marched.feet[0], 0.0);
+            assert_eq!(marched.feet[samples.len() - 1], seg.length());
+        }
+        // A sample that the march would reach only by going back along the segment is left to
+        // the tracing: feet come out ordered, or not at all.
+        let (seg, mut samples) = offset_spiral_samples(0..41);
+        samples.swap(10, 30);
+        assert!(marched(&seg, &samples).is_none());
+        let d = deviation(&seg, &samples, 1e-3);
+        assert!(d.max < 0.081, "{}", d.max);
+    }
+
+    #[test]
     fn feet_from_a_nearby_segment_are_the_traced_feet() {
         // A refinement trial: the segment moves a little; Newton from the old feet (rescaled)
         // must land on the feet that tracing finds.
@@ -494,7 +605,7 @@ mod tests {
         .expect("segment");
         let seeds: Vec<f64> = old.feet.iter().map(|f| f * 50.1 / 50.0).collect();
         let near = deviation_near(&moved, &samples, &seeds).expect("settles");
-        let traced = deviation(&moved, &samples, 0.01);
+        let traced = traced(&moved, &samples, 0.01);
         for i in 0..samples.len() {
             assert!(
                 (near.distances[i] - traced.distances[i]).abs() < 1e-9,

@@ -460,6 +460,54 @@ pub(crate) fn drawable_margin(a: Point, ta: Vec2, b: Point, tb: Vec2, alpha: f64
     Some(small.min(limit - big))
 }
 
+/// The two edges of the drawable region of α that G1 data meets, in a mirror frame `sigma` (±1)
+/// held fixed: [φ_∞(θ_T) − σθ_A, φ_∞(θ_T) − σθ_B] with θ_T = σ(θ_A + θ_B) and φ_∞ the limit
+/// chord angle of [`drawable_margin`] (θ_T itself for 0 ≤ α ≤ 1, where the two reduce to σθ_B
+/// and σθ_A). Data is drawable in that frame exactly when both are non-negative: their sum
+/// 2φ_∞ − θ_T ≥ 0 forces θ_T ≥ 0 (φ_∞ lies between θ_T/2 and θ_T), and each bounds the larger
+/// end angle, which also keeps the smaller one positive.
+///
+/// Unlike [`drawable_margin`], a minimum taken in the data's own mirror frame, both are smooth in
+/// the data and α everywhere. That matters for a near-straight segment: its drawable region is
+/// a wedge with its apex at θ_A = θ_B = 0, a step of the size of its turning crosses it, and the
+/// linearised minimum sees only one side of the wedge and nothing of the apex, while the two
+/// edges, held together, are the wedge (see `chain::refine`). `None` for non-finite data or
+/// coincident end points.
+pub(crate) fn edge_margins(
+    a: Point,
+    ta: Vec2,
+    b: Point,
+    tb: Vec2,
+    alpha: f64,
+    sigma: f64,
+) -> Option<[f64; 2]> {
+    let chord = b - a;
+    let finite = [a.x, a.y, b.x, b.y, ta.x, ta.y, tb.x, tb.y, alpha, sigma]
+        .iter()
+        .all(|v| v.is_finite());
+    if !finite || chord.hypot2() == 0.0 || ta.hypot2() == 0.0 || tb.hypot2() == 0.0 {
+        return None;
+    }
+    let n = Normalised::new(chord, ta, tb);
+    let (ea, eb) = (sigma * n.theta_a, sigma * n.theta_b);
+    let theta_t = ea + eb;
+    let limit = limit_chord_angle(alpha, theta_t).unwrap_or(theta_t);
+    Some([limit - ea, limit - eb])
+}
+
+/// The mirror (±1) that makes G1 data turn left in the normalised frame of the module doc (see
+/// [`edge_margins`]); `None` for non-finite data or coincident end points.
+pub(crate) fn mirror(a: Point, ta: Vec2, b: Point, tb: Vec2) -> Option<f64> {
+    let chord = b - a;
+    let finite = [a.x, a.y, b.x, b.y, ta.x, ta.y, tb.x, tb.y]
+        .iter()
+        .all(|v| v.is_finite());
+    if !finite || chord.hypot2() == 0.0 || ta.hypot2() == 0.0 || tb.hypot2() == 0.0 {
+        return None;
+    }
+    Some(Normalised::new(chord, ta, tb).sigma)
+}
+
 /// P(s_T) and dP/dq of the standard span in closed form, for α = 1 and α = 2 (`None` otherwise,
 /// or at the κ = 0 edge). With ds = ρ dθ:
 ///
@@ -703,6 +751,76 @@ mod tests {
             inside > 1000 && outside > 1000,
             "{inside} inside, {outside} outside"
         );
+    }
+
+    #[test]
+    fn both_edges_bound_the_drawable_region() {
+        // In the data's own mirror frame, both edges are non-negative exactly where the data is
+        // drawable; clearly inside (above 0.05 rad) builds, outside does not.
+        let (a, b) = (Point::new(0.0, 0.0), Point::new(1.0, 0.0));
+        let (mut inside, mut outside) = (0, 0);
+        for alpha in [-3.0, -1.0, -0.3, 0.0, 0.5, 1.0, 1.7, 3.0] {
+            for i in 0..40 {
+                for j in 0..40 {
+                    let (theta_a, theta_b) = (-0.4 + 0.061 * i as f64, -0.4 + 0.061 * j as f64);
+                    let ta = Vec2::new(theta_a.cos(), -theta_a.sin());
+                    let tb = Vec2::new(theta_b.cos(), theta_b.sin());
+                    let sigma = mirror(a, ta, b, tb).expect("finite data");
+                    let edges = edge_margins(a, ta, b, tb, alpha, sigma).expect("finite data");
+                    let lowest = edges[0].min(edges[1]);
+                    let built = fit_g1(a, ta, b, tb, alpha);
+                    if lowest > 0.05 {
+                        inside += 1;
+                        assert!(built.is_ok(), "α {alpha} θ {theta_a} {theta_b}: {built:?}");
+                    } else if lowest < -1e-9 {
+                        outside += 1;
+                        assert!(built.is_err(), "α {alpha} θ {theta_a} {theta_b}: {built:?}");
+                    }
+                }
+            }
+        }
+        assert!(
+            inside > 1000 && outside > 1000,
+            "{inside} inside, {outside} outside"
+        );
+    }
+
+    #[test]
+    fn the_edges_of_a_near_straight_segment_are_a_wedge() {
+        // Near-straight data: the region is a wedge with its apex at θ_A = θ_B = 0, and the two
+        // edges are linear in the angles there (homogeneous of degree one), so that their
+        // linearisation holds at any step size. Held in a frame, data turned the other way (a
+        // step through the apex) is outside on at least one edge.
+        let (a, b) = (Point::new(0.0, 0.0), Point::new(2.0, 1.0));
+        let chord = (b - a).atan2();
+        for alpha in [-3.0, -1.0, -0.5, 0.5, 2.0] {
+            for (u, v) in [(1.0, 1.3), (1.0, 1.9), (2.5, 1.0)] {
+                let data = |t: f64| {
+                    let ta = Vec2::new((chord - t * u).cos(), (chord - t * u).sin());
+                    let tb = Vec2::new((chord + t * v).cos(), (chord + t * v).sin());
+                    (ta, tb)
+                };
+                let (ta, tb) = data(1e-6);
+                let sigma = mirror(a, ta, b, tb).expect("finite data");
+                let unit = edge_margins(a, ta, b, tb, alpha, sigma).expect("finite data");
+                for t in [1e-5, 1e-4, 1e-3] {
+                    let (ta, tb) = data(t);
+                    let m = edge_margins(a, ta, b, tb, alpha, sigma).expect("finite data");
+                    for e in 0..2 {
+                        let scaled = unit[e] * t / 1e-6;
+                        assert!(
+                            (m[e] - scaled).abs() <= 1e-3 * t,
+                            "α {alpha} ({u}, {v}) t {t} edge {e}: {} against {scaled}",
+                            m[e]
+                        );
+                    }
+                    let (ta, tb) = data(-t);
+                    let flipped = edge_margins(a, ta, b, tb, alpha, sigma).expect("finite data");
+                    // Their sum, 2φ_∞ − θ_T, has the sign of the turning θ_T.
+                    assert!(flipped[0] + flipped[1] < 0.0, "α {alpha} ({u}, {v}) t {t}");
+                }
+            }
+        }
     }
 
     #[test]
