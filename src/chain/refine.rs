@@ -52,8 +52,12 @@ const POSITION_STEP: f64 = 1e-7;
 const ANGLE_STEP: f64 = 1e-7;
 /// Finite-difference step on α.
 const ALPHA_STEP: f64 = 1e-6;
-/// Initial damping relative to the diagonal of JᵀJ.
-const LAMBDA_START: f64 = 1e-3;
+/// Initial damping relative to the diagonal of JᵀJ. The first step from the α search's chain
+/// is rarely in the Gauss–Newton regime (α moves far along the directions the data barely see):
+/// over the fixture strokes up to 600 samples, 1e-2 takes 1.5 % fewer instructions on the median
+/// stroke than 1e-3 for 13 fewer segments in 778 and the same rms distance (1e-1: 2 % fewer
+/// again, but a 1 % higher rms distance).
+const LAMBDA_START: f64 = 1e-2;
 /// Damping beyond which no step can help any more (the step has shrunk to rounding).
 const LAMBDA_MAX: f64 = 1e12;
 /// Damping growth after a rejected step: ×10 reaches a short, safe step within a few trials

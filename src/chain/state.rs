@@ -7,10 +7,15 @@ use std::rc::Rc;
 
 use crate::geom::{Point, Vec2};
 use crate::lac::deviation::{Deviation, deviation_near, points_at};
-use crate::lac::yoshida_saito::fit_g1_probe;
+use crate::lac::yoshida_saito::{drawable_margin, fit_g1_probe};
 use crate::lac::{LacError, LacSegment, deviation, fit_g1_near, within};
 
 use super::JointKind;
+
+/// A drawable margin (radians) below minus this is outside the region beyond doubt: far above
+/// the series' rounding (~1e-13 rad, see [`drawable_margin`]), far below any step a refinement
+/// takes.
+const CLEARLY_OUTSIDE: f64 = 1e-9;
 
 /// A joint of the chain.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -225,6 +230,12 @@ impl State<'_> {
         }
     }
 
+    /// Segment `k`'s drawable margin (see [`drawable_margin`]).
+    pub fn margin(&self, k: usize) -> Option<f64> {
+        let (a, b) = (self.joints.get(k)?, self.joints.get(k + 1)?);
+        drawable_margin(a.p, a.tangent(), b.p, b.tangent(), *self.alphas.get(k)?)
+    }
+
     /// Whether segment `k` is built from the same data (joints and α) in both states.
     pub fn same_segment(&self, other: &State<'_>, k: usize) -> bool {
         self.alphas[k] == other.alphas[k]
@@ -344,6 +355,13 @@ impl State<'_> {
         bound: f64,
     ) -> Result<Vec<Evaluated>, Rejected> {
         let n = self.len().min(evaluated.len());
+        // A segment clearly outside its drawable region fails before any construction: the
+        // margin is a short series, a construction a quadrature per Newton step.
+        if let Some(k) = (0..n).find(|&k| {
+            !self.same_segment(base, k) && self.margin(k).is_some_and(|m| m < -CLEARLY_OUTSIDE)
+        }) {
+            return Err(Rejected::Unbuildable(k));
+        }
         let mut built: Vec<Option<LacSegment>> = vec![None; n];
         let order = first
             .filter(|&f| f < n)

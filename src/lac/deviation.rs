@@ -15,7 +15,10 @@
 use super::segment::LacSegment;
 use super::special::{cis, cis_small, cmul};
 use crate::geom::{Point, Vec2};
-use kurbo::common::GAUSS_LEGENDRE_COEFFS_3;
+
+/// The 3-point Gauss–Legendre rule on [−1, 1]: weight of the middle node, weight of the outer
+/// nodes, and their abscissa ±√(3/5).
+const GAUSS_LEGENDRE_3: (f64, f64, f64) = (8.0 / 9.0, 5.0 / 9.0, 0.774_596_669_241_483_4);
 
 /// Most polyline vertices used for one segment. A span whose required spacing would need more
 /// (an extreme curvature ratio) is traced at the coarser spacing this allows; the chord error
@@ -334,21 +337,16 @@ fn integrate_within(segment: &LacSegment, a: f64, b: f64, kappa: f64) -> Vec2 {
     let steps = ((turn / POLISH_STEP_TURN).ceil() as usize).clamp(1, MAX_POLISH_STEPS);
     let h = (b - a) / steps as f64;
     let mut sum = Vec2::ZERO;
+    let (w0, w1, x1) = GAUSS_LEGENDRE_3;
     for i in 0..steps {
-        let start = a + h * i as f64;
+        let mid = a + h * (i as f64 + 0.5);
         // e^{iθ} at the nodes as e^{iθ_mid}·e^{i(θ − θ_mid)}: one sin_cos per step, the rest by
-        // the small-angle series (the step turns at most POLISH_STEP_TURN).
-        let theta_mid = segment.theta(start + 0.5 * h);
+        // the small-angle series (the step turns at most POLISH_STEP_TURN); the angles around
+        // the middle as increments on it (see `LacSegment::theta_around`).
+        let [before, theta_mid, after] = segment.theta_around(mid, 0.5 * h * x1);
         let phase_mid = cis(theta_mid);
-        for &(w, x) in GAUSS_LEGENDRE_COEFFS_3 {
-            let unit = if x == 0.0 {
-                phase_mid
-            } else {
-                let theta = segment.theta(start + 0.5 * h * (1.0 + x));
-                cmul(phase_mid, cis_small(theta - theta_mid))
-            };
-            sum += unit * (0.5 * h * w);
-        }
+        let sides = cis_small(before - theta_mid) + cis_small(after - theta_mid);
+        sum += (phase_mid * w0 + cmul(phase_mid, sides) * w1) * (0.5 * h);
     }
     sum
 }

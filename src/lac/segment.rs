@@ -110,6 +110,21 @@ impl Spiral {
         }
     }
 
+    /// Turning θ(t) − θ0 and the turnings from t to the fractions t ∓ dt (see
+    /// [`StandardLac::theta_around`]).
+    fn turning_around(&self, t: f64, dt: f64) -> (f64, Option<(f64, f64)>) {
+        let (u, du) = (self.u(t), dt * self.u_end);
+        let (theta, steps) = self.std.theta_around(u, du);
+        if self.curling {
+            // u runs backwards: t − dt is u + du.
+            let steps = steps.map(|(minus, plus)| (-self.sigma * plus, -self.sigma * minus));
+            (self.sigma * (self.theta_std_end - theta), steps)
+        } else {
+            let steps = steps.map(|(minus, plus)| (self.sigma * minus, self.sigma * plus));
+            (self.sigma * theta, steps)
+        }
+    }
+
     /// Signed curvature at t.
     fn kappa(&self, t: f64) -> f64 {
         self.sigma * self.std.kappa(self.u(t)) / self.scale
@@ -420,6 +435,28 @@ impl LacSegment {
     /// Tangent angle at arc length `s` (clamped to [0, S]), in closed form.
     pub fn theta(&self, s: f64) -> f64 {
         self.theta0 + self.turning(self.fraction(s))
+    }
+
+    /// Tangent angles around arc length `s` (in [0, S], with s ± d too): θ(s − d), θ(s) and
+    /// θ(s + d), the outer two as increments on θ(s) summed by a short series where the curvature
+    /// changes little over ±d (see [`StandardLac::theta_around`]), else in closed form.
+    pub(crate) fn theta_around(&self, s: f64, d: f64) -> [f64; 3] {
+        let t = self.fraction(s);
+        match self.shape {
+            Shape::Line => [self.theta0; 3],
+            Shape::Arc { kappa } => {
+                let mid = self.theta0 + kappa * t * self.length;
+                [mid - kappa * d, mid, mid + kappa * d]
+            }
+            Shape::Spiral(sp) => {
+                let (turning, steps) = sp.turning_around(t, d / self.length);
+                let mid = self.theta0 + turning;
+                match steps {
+                    Some((minus, plus)) => [mid + minus, mid, mid + plus],
+                    None => [self.theta(s - d), mid, self.theta(s + d)],
+                }
+            }
+        }
     }
 
     /// Signed curvature at arc length `s` (clamped to [0, S]).

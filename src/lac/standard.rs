@@ -35,6 +35,23 @@ use crate::geom::{Point, Vec2};
 /// (alternating, leading term dominant for |θ| ≤ 1) keeps full relative accuracy.
 const INVOLUTE_SERIES_BELOW: f64 = 1.0;
 
+/// Largest relative change ε of ρ^α over a step for which [`StandardLac::theta_around`] sums its
+/// series (beyond it, the closed form): at a quarter the terms shrink at least fourfold once past
+/// the first few, and steps of the deviation's integration (turning at most 0.1 rad) stay far
+/// below it unless the curvature changes by a large factor within one.
+const STEP_SERIES_MAX_EPS: f64 = 0.25;
+
+/// 1/(m + 1) for the terms m of [`StandardLac::theta_around`]'s series.
+const INVERSE_COUNTS: [f64; SERIES_MAX_TERMS] = {
+    let mut table = [0.0; SERIES_MAX_TERMS];
+    let mut m = 0;
+    while m < SERIES_MAX_TERMS {
+        table[m] = 1.0 / (m as f64 + 1.0);
+        m += 1;
+    }
+    table
+};
+
 /// A log-aesthetic curve in the normalised standard form (see the module documentation).
 ///
 /// Internally the linear function y(s) = αΛs is stored as y = m·(s/s_ref) so that a segment
@@ -146,6 +163,53 @@ impl StandardLac {
         }
         let lr = self.l_ref * (s / self.s_ref) * lnrel(y);
         s * lnrel(y) * exprel((self.alpha - 1.0) * lr)
+    }
+
+    /// θ(s) and the increments θ(s ± d) − θ(s), the increments by a power series where the
+    /// curvature changes little over ±d (`None` there otherwise, and at the κ = 0 point).
+    ///
+    /// With 1 + y the value of ρ^α at s (y = αΛs) and ρ^α linear in arc length,
+    /// ρ(s + δ)^α = ρ(s)^α·(1 + ε), ε = αΛδ/(1 + y), and θ(s + δ) − θ(s) = κ(s)·δ·S(ε) with
+    ///
+    /// S = ((1 + ε)^p − 1)/(pε) = Σ_m c_m ε^m,  c_0 = 1,  c_m ε^m = c_{m−1} ε^{m−1}·(pε − mε)/(m + 1),
+    ///
+    /// p = (α − 1)/α: finite in the product pε = (α − 1)Λδ/(1 + y) for every α (α = 1 gives
+    /// lnrel(ε), α = 0 exprel(−Λδ)), and the sign of δ only flips the odd terms. Where
+    /// |ε| ≤ [`STEP_SERIES_MAX_EPS`] and |pε| ≤ 1 the terms fall at least fourfold from the
+    /// fourth on: about fifteen terms reach rounding, a tenth of the logarithm and exponential of
+    /// the closed form, and the increment keeps its full relative accuracy where the difference
+    /// of two closed forms would cancel.
+    pub(crate) fn theta_around(&self, s: f64, d: f64) -> (f64, Option<(f64, f64)>) {
+        let y = self.y(s);
+        if y <= -1.0 {
+            return (self.theta(s), None);
+        }
+        let rel = lnrel(y);
+        let ln_rho = self.l_ref * (s / self.s_ref) * rel;
+        let theta = s * rel * exprel((self.alpha - 1.0) * ln_rho);
+        let one_plus_y = 1.0 + y;
+        let eps = self.m_ref * (d / self.s_ref) / one_plus_y;
+        let p_eps = (self.alpha - 1.0) * self.l_ref * (d / self.s_ref) / one_plus_y;
+        if !(eps.abs() <= STEP_SERIES_MAX_EPS && p_eps.abs() <= 1.0) {
+            return (theta, None);
+        }
+        // Even and odd parts of S at +ε; S(−ε) = even − odd.
+        let (mut even, mut odd) = (1.0, 0.0);
+        let mut term = 1.0;
+        for (m, inverse) in INVERSE_COUNTS.iter().enumerate().skip(1) {
+            // 1/(m + 1) from the table: a product instead of a division per term.
+            term *= (p_eps - m as f64 * eps) * inverse;
+            if m % 2 == 0 {
+                even += term;
+            } else {
+                odd += term;
+            }
+            if term.abs() <= SERIES_TERM_EPS {
+                break;
+            }
+        }
+        let step = (-ln_rho).exp() * d;
+        (theta, Some((-step * (even - odd), step * (even + odd))))
     }
 
     /// The supremum of the turning angle, θ_max = 1/((1 − α)Λ), for α < 1 and Λ > 0 (reached at
@@ -294,6 +358,45 @@ fn involute_g_series(theta: f64) -> Vec2 {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn increments_around_a_point_are_the_closed_form_differences() {
+        // Every α kind (0 and 1 included), a near-circle (Λ tiny), steps from tiny to beyond the
+        // series' reach (the closed form then answers), and points up to the κ = 0 end.
+        let (mut summed, mut closed) = (0, 0);
+        for alpha in [-3.0, -1.0, -0.2, 0.0, 0.3, 1.0, 2.0, 3.0] {
+            for lambda in [1e-9, 0.05, 0.8] {
+                let lac = StandardLac::new(alpha, lambda).expect("valid");
+                let end = lac.s_max().unwrap_or(4.0).min(4.0);
+                for i in 1..40 {
+                    let s = end * i as f64 / 40.0;
+                    for d in [1e-6, 1e-3, 0.02, 0.3] {
+                        let (theta, steps) = lac.theta_around(s, d);
+                        assert_eq!(theta, lac.theta(s), "α {alpha} Λ {lambda} s {s}");
+                        let Some((minus, plus)) = steps else {
+                            closed += 1;
+                            continue;
+                        };
+                        summed += 1;
+                        let want = (lac.theta(s - d) - theta, lac.theta(s + d) - theta);
+                        // Relative to the step's turning (the increments keep that accuracy),
+                        // plus the closed-form difference's own rounding, a few ulps of θ.
+                        let bound = 1e-13 * lac.kappa(s) * d + 8.0 * f64::EPSILON * theta.abs();
+                        for (got, want) in [(minus, want.0), (plus, want.1)] {
+                            assert!(
+                                (got - want).abs() <= bound,
+                                "α {alpha} Λ {lambda} s {s} d {d}: {got} against {want}"
+                            );
+                        }
+                    }
+                }
+            }
+        }
+        assert!(
+            summed > 3000 && closed > 50,
+            "{summed} by series, {closed} closed"
+        );
+    }
 
     #[test]
     fn theta_and_inverse_agree_across_alpha() {
