@@ -158,18 +158,21 @@ pub fn fit_span(
     let search_chord = SEARCH_CHORD_FACTOR * chord_error;
     // The last segment built starts the next construction: successive α are close.
     let mut last: Option<LacSegment> = None;
-    // The lowest-scoring segment so far, with its α: Brent's answer is always one it evaluated,
-    // so the chosen segment is not built a second time.
-    let mut best_seen: Option<(f64, LacSegment, f64)> = None;
+    // The lowest-scoring segment so far, with its α and, when the march gave them, its exact
+    // distances: Brent's answer is always one it evaluated, so the chosen segment is neither
+    // built nor measured a second time.
+    let mut best_seen: Option<(f64, LacSegment, f64, Option<Deviation>)> = None;
     let mut evaluate = |alpha: f64| -> Option<(LacSegment, Deviation)> {
         evaluations += 1;
         let built = fit_g1_near(a, ta, b, tb, alpha, last.as_ref()).ok()?;
         last = Some(built);
         let segment = Some(built).filter(|s| within(s, max_curvature))?;
-        let d = marched(&segment, samples)
-            .unwrap_or_else(|| rough_deviation(&segment, samples, search_chord));
-        if best_seen.is_none_or(|(_, _, rms)| d.rms < rms) {
-            best_seen = Some((alpha, segment, d.rms));
+        let (d, exact) = match marched(&segment, samples) {
+            Some(d) => (d, true),
+            None => (rough_deviation(&segment, samples, search_chord), false),
+        };
+        if best_seen.as_ref().is_none_or(|(_, _, rms, _)| d.rms < *rms) {
+            best_seen = Some((alpha, segment, d.rms, exact.then(|| d.clone())));
         }
         Some((segment, d))
     };
@@ -257,18 +260,18 @@ pub fn fit_span(
     } else {
         best_alpha
     };
-    let segment = match best_seen {
-        Some((seen, segment, _)) if seen == alpha => segment,
+    let (segment, known) = match best_seen {
+        Some((seen, segment, _, known)) if seen == alpha => (segment, known),
         _ => {
             evaluations += 1;
             match fit_g1(a, ta, b, tb, alpha) {
-                Ok(segment) if within(&segment, max_curvature) => segment,
+                Ok(segment) if within(&segment, max_curvature) => (segment, None),
                 Ok(_) => return Err(LacError::NoAlphaInRange { min, max }),
                 Err(e) => return Err(e),
             }
         }
     };
-    let deviation = deviation(&segment, samples, chord_error);
+    let deviation = known.unwrap_or_else(|| deviation(&segment, samples, chord_error));
     grid.sort_by(|p, q| p[0].total_cmp(&q[0]));
     grid.dedup_by(|p, q| p[0] == q[0]);
     let search = AlphaSearch {
