@@ -16,11 +16,13 @@
 //!
 //! A segment exists only while its G1 data lie in the drawable region of its α, and the best fit
 //! often sits at that region's edge (the samples want an α the joints cannot carry). A trial that
-//! leaves the region holds that segment from then on: its drawable margin (radians, see
-//! [`crate::lac::yoshida_saito`]) is linearised at each iterate and the damped step is moved to
-//! the nearest step, in the system's own metric, that keeps the margin (an active-set solve over
-//! the held segments, `keep_inside`). Damping alone cannot do that: at the edge every damped step
-//! still points outside, only shorter, and the whole chain stalls.
+//! leaves the region holds that segment from then on: both edges of its region (margins in
+//! radians, in the mirror frame of the iterate, see `yoshida_saito::edge_margins`) are
+//! linearised at each iterate and the damped step is moved to the nearest step, in the system's
+//! own metric, that keeps them (an active-set solve over the held segments, `keep_inside`).
+//! Damping alone cannot do that: at the edge every damped step still points outside, only
+//! shorter, and the whole chain stalls. One edge is not enough either: a near-straight segment's
+//! region is a wedge narrower than a step.
 
 use super::band::{Band, BandCholesky};
 use super::state::{Evaluated, Joint, Rejected, State, cost, model_at_feet};

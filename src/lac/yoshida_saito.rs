@@ -272,6 +272,17 @@ struct Normalised {
 }
 
 impl Normalised {
+    /// [`Normalised::new`] for the chord from `a` to `b`; `None` for non-finite data, coincident
+    /// end points or a zero tangent.
+    fn checked(a: Point, ta: Vec2, b: Point, tb: Vec2) -> Option<Self> {
+        let chord = b - a;
+        let finite = [a.x, a.y, b.x, b.y, ta.x, ta.y, tb.x, tb.y]
+            .iter()
+            .all(|v| v.is_finite());
+        (finite && chord.hypot2() > 0.0 && ta.hypot2() > 0.0 && tb.hypot2() > 0.0)
+            .then(|| Normalised::new(chord, ta, tb))
+    }
+
     /// The angles of tangents `ta`, `tb` to `chord` (non-zero vectors).
     fn new(chord: Vec2, ta: Vec2, tb: Vec2) -> Self {
         let psi = chord.atan2();
@@ -441,16 +452,12 @@ fn build(
 /// exactly. Symmetric data (a circular arc or a line, which every α draws) gets θ_T/2. `None` for
 /// non-finite data or coincident end points.
 pub(crate) fn drawable_margin(a: Point, ta: Vec2, b: Point, tb: Vec2, alpha: f64) -> Option<f64> {
-    let chord = b - a;
-    let finite = [a.x, a.y, b.x, b.y, ta.x, ta.y, tb.x, tb.y, alpha]
-        .iter()
-        .all(|v| v.is_finite());
-    if !finite || chord.hypot2() == 0.0 || ta.hypot2() == 0.0 || tb.hypot2() == 0.0 {
+    if !alpha.is_finite() {
         return None;
     }
     let Normalised {
         ea, eb, theta_t, ..
-    } = Normalised::new(chord, ta, tb);
+    } = Normalised::checked(a, ta, b, tb)?;
     if (ea - eb).abs() <= SYMMETRIC_TOLERANCE {
         // A circular arc or a line: any α draws it.
         return Some(0.5 * theta_t);
@@ -483,14 +490,10 @@ pub(crate) fn edge_margins(
     alpha: f64,
     sigma: f64,
 ) -> Option<[f64; 2]> {
-    let chord = b - a;
-    let finite = [a.x, a.y, b.x, b.y, ta.x, ta.y, tb.x, tb.y, alpha, sigma]
-        .iter()
-        .all(|v| v.is_finite());
-    if !finite || chord.hypot2() == 0.0 || ta.hypot2() == 0.0 || tb.hypot2() == 0.0 {
+    if !(alpha.is_finite() && sigma.is_finite()) {
         return None;
     }
-    let n = Normalised::new(chord, ta, tb);
+    let n = Normalised::checked(a, ta, b, tb)?;
     let (ea, eb) = (sigma * n.theta_a, sigma * n.theta_b);
     let theta_t = ea + eb;
     let limit = limit_chord_angle(alpha, theta_t).unwrap_or(theta_t);
@@ -500,14 +503,7 @@ pub(crate) fn edge_margins(
 /// The mirror (±1) that makes G1 data turn left in the normalised frame of the module doc (see
 /// [`edge_margins`]); `None` for non-finite data or coincident end points.
 pub(crate) fn mirror(a: Point, ta: Vec2, b: Point, tb: Vec2) -> Option<f64> {
-    let chord = b - a;
-    let finite = [a.x, a.y, b.x, b.y, ta.x, ta.y, tb.x, tb.y]
-        .iter()
-        .all(|v| v.is_finite());
-    if !finite || chord.hypot2() == 0.0 || ta.hypot2() == 0.0 || tb.hypot2() == 0.0 {
-        return None;
-    }
-    Some(Normalised::new(chord, ta, tb).sigma)
+    Some(Normalised::checked(a, ta, b, tb)?.sigma)
 }
 
 /// P(s_T) and dP/dq of the standard span in closed form, for α = 1 and α = 2 (`None` otherwise,
