@@ -238,6 +238,17 @@ pub fn fit_chain(
     fitter.finish(&state, searches)
 }
 
+/// What [`Fitter::search`] found.
+struct Searched {
+    /// The α (the range's middle for an arc or a line).
+    alpha: f64,
+    /// The search's record.
+    search: AlphaSearch,
+    /// The largest distance to the chosen segment from the points searched on: the samples, or
+    /// the B-spline's reference points where the samples were too few.
+    max: f64,
+}
+
 /// The state shared by the fitting steps.
 struct Fitter<'a> {
     input: &'a ChainInput<'a>,
@@ -323,7 +334,7 @@ impl<'a> Fitter<'a> {
         samples: &[usize],
         u: (f64, f64),
         guess: Option<f64>,
-    ) -> Result<(f64, AlphaSearch), LacError> {
+    ) -> Result<Searched, LacError> {
         let points: Vec<Point> = if samples.len() >= MIN_SPAN_SAMPLES {
             samples.iter().map(|&i| self.input.points[i]).collect()
         } else {
@@ -343,7 +354,11 @@ impl<'a> Fitter<'a> {
         )?;
         // Arcs and lines have no α: any value reproduces them; keep the range's middle.
         let alpha = fit.segment.alpha().unwrap_or(self.options.alpha.middle());
-        Ok((alpha, fit.search))
+        Ok(Searched {
+            alpha,
+            search: fit.search,
+            max: fit.deviation.max,
+        })
     }
 
     /// [`SPAN_REFERENCE_POINTS`] B-spline points spread over `[u.0, u.1]`: they stand in for the
@@ -385,6 +400,7 @@ impl<'a> Fitter<'a> {
             let guess = lcg_slope(&lcg_of_bezier_span(&span.pieces, LCG_GUESS_POINTS));
             let (alpha, search) = self
                 .search(&start, &end, &held, (u0, u1), guess)
+                .map(|found| (found.alpha, found.search))
                 .unwrap_or((self.options.alpha.middle(), AlphaSearch::default()));
             alphas.push(alpha);
             samples.push(held);
@@ -467,7 +483,9 @@ impl<'a> Fitter<'a> {
             let parent = state.alphas[k];
             let searched = |x: &Joint, y: &Joint, s: &[usize]| {
                 if s.len() >= MIN_SPAN_SAMPLES {
-                    self.search(x, y, s, (0.0, 0.0), Some(parent)).ok()
+                    self.search(x, y, s, (0.0, 0.0), Some(parent))
+                        .ok()
+                        .map(|found| (found.alpha, found.search))
                 } else {
                     None
                 }
@@ -689,21 +707,18 @@ impl<'a> Fitter<'a> {
                     state.samples[j].len() as f64,
                 );
                 let guess = (n0 * state.alphas[j - 1] + n1 * state.alphas[j]) / (n0 + n1).max(1.0);
-                // Too few samples to decide the merged shape: it must also follow the B-spline.
-                let reference =
-                    (union.len() < MIN_SPAN_SAMPLES).then(|| self.reference_points((a.u, b.u)));
-                if let Ok((alpha, search)) = self.search(&a, &b, &union, (a.u, b.u), Some(guess)) {
+                // Too few samples to decide the merged shape: the search ran on the B-spline's
+                // points instead, and the merged segment must stay within the tolerance of them.
+                let sparse = union.len() < MIN_SPAN_SAMPLES;
+                if let Ok(found) = self.search(&a, &b, &union, (a.u, b.u), Some(guess))
+                    && (!sparse || found.max <= self.tolerance)
+                {
+                    let (alpha, search) = (found.alpha, found.search);
                     let mut trial = state.clone();
                     trial.joints.remove(j);
                     trial.alphas.splice(j - 1..=j, [alpha]);
                     trial.samples.splice(j - 1..=j, [union]);
-                    let follows = |points: &[Point]| {
-                        trial.segment(j - 1).is_ok_and(|s| {
-                            deviation(&s, points, self.chord_error).max <= self.tolerance
-                        })
-                    };
                     if matches!(trial.evaluate(j - 1, self.chord_error), Ok(e) if e.max <= self.tolerance)
-                        && reference.as_deref().is_none_or(follows)
                     {
                         *state = trial;
                         searches.splice(j - 1..=j, [search]);

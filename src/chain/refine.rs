@@ -25,9 +25,9 @@
 //! region is a wedge narrower than a step.
 
 use super::band::{Band, BandCholesky};
-use super::state::{Evaluated, Joint, Rejected, State, cost, model_at_feet};
+use super::state::{Evaluated, Joint, State, cost, model_at_feet};
 use crate::geom::Vec2;
-use crate::lac::yoshida_saito::{drawable_margin, edge_margins, mirror};
+use crate::lac::yoshida_saito::{edge_margins, mirror};
 
 /// Options of [`refine`].
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -238,9 +238,7 @@ pub(crate) fn refine(state: &mut State<'_>, options: &RefineOptions) -> Option<R
             for (c, &u) in unknowns.iter().enumerate() {
                 add(&mut trial, u, -delta[c], options);
             }
-            let bound = current_cost;
-            match trial.evaluate_all_from(options.chord_error, state, &current, unbuildable, bound)
-            {
+            match trial.evaluate_all_from(options.chord_error, state, &current, unbuildable) {
                 Ok(e) if cost(&e) < current_cost => {
                     let new_cost = cost(&e);
                     let decrease = (current_cost - new_cost) / current_cost;
@@ -253,11 +251,11 @@ pub(crate) fn refine(state: &mut State<'_>, options: &RefineOptions) -> Option<R
                     improved = decrease > CONVERGED && rms_gain > CONVERGED_RMS;
                     break;
                 }
-                Err(Rejected::Unbuildable(k)) => {
+                Err(k) => {
                     unbuildable = Some(k);
                     // Left the drawable region: hold the segment inside it (same damping) the
                     // first time; any other failure, or a held segment failing again, damps.
-                    let outside = trial_margin(&trial, k).is_some_and(|m| m < 0.0);
+                    let outside = trial.margin(k).is_some_and(|m| m < 0.0);
                     if outside
                         && !held.contains(&k)
                         && let Some(pair) = EdgeConstraint::at(state, k, &unknowns, &ranges[k])
@@ -268,7 +266,7 @@ pub(crate) fn refine(state: &mut State<'_>, options: &RefineOptions) -> Option<R
                         lambda *= LAMBDA_GROWTH;
                     }
                 }
-                Ok(_) | Err(Rejected::Worse) => lambda *= LAMBDA_GROWTH,
+                Ok(_) => lambda *= LAMBDA_GROWTH,
             }
         }
         if !improved {
@@ -444,20 +442,6 @@ fn jacobian_by_differences(
         }
     }
     blocks
-}
-
-/// Segment `k`'s drawable margin in `state` (see [`drawable_margin`]).
-fn trial_margin(state: &State<'_>, k: usize) -> Option<f64> {
-    joint_margin(
-        *state.joints.get(k)?,
-        *state.joints.get(k + 1)?,
-        *state.alphas.get(k)?,
-    )
-}
-
-/// The drawable margin of the segment of slope `alpha` joining `a` and `b`.
-fn joint_margin(a: Joint, b: Joint, alpha: f64) -> Option<f64> {
-    drawable_margin(a.p, a.tangent(), b.p, b.tangent(), alpha)
 }
 
 /// One edge of a segment's drawable region, held: the linearised constraint m + ∇m·δ ≥ target

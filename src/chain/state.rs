@@ -343,24 +343,22 @@ impl State<'_> {
     /// many segments): a segment built from the same data as in `base` is taken over, the others
     /// are built warm-started from `base`'s. All segments are built before any is measured, and
     /// segment `first` (when given: the one that failed last time) before the others, so that a
-    /// state with an unbuildable segment costs as few constructions as possible. The measuring
-    /// stops as soon as the cost (sum of squared residuals, see [`cost`]) exceeds `bound`: a
-    /// trial worse than the iterate it would replace needs no more.
+    /// state with an unbuildable segment costs as few constructions as possible; on failure, the
+    /// index of the segment that cannot be built.
     pub fn evaluate_all_from(
         &self,
         chord_error: f64,
         base: &State<'_>,
         evaluated: &[Evaluated],
         first: Option<usize>,
-        bound: f64,
-    ) -> Result<Vec<Evaluated>, Rejected> {
+    ) -> Result<Vec<Evaluated>, usize> {
         let n = self.len().min(evaluated.len());
         // A segment clearly outside its drawable region fails before any construction: the
         // margin is a short series, a construction a quadrature per Newton step.
         if let Some(k) = (0..n).find(|&k| {
             !self.same_segment(base, k) && self.margin(k).is_some_and(|m| m < -CLEARLY_OUTSIDE)
         }) {
-            return Err(Rejected::Unbuildable(k));
+            return Err(k);
         }
         let mut built: Vec<Option<LacSegment>> = vec![None; n];
         let order = first
@@ -371,26 +369,17 @@ impl State<'_> {
             if !self.same_segment(base, k) {
                 built[k] = Some(
                     self.segment_near(k, Some(&evaluated[k].segment))
-                        .map_err(|_| Rejected::Unbuildable(k))?,
+                        .map_err(|_| k)?,
                 );
             }
         }
-        // The segments taken over count first: they cost nothing to measure.
-        let mut total: f64 = built
-            .iter()
+        Ok(built
+            .into_iter()
             .zip(evaluated)
-            .filter(|(b, _)| b.is_none())
-            .map(|(_, e)| cost(std::slice::from_ref(e)))
-            .sum();
-        let mut out = Vec::with_capacity(n);
-        for (k, (segment, old)) in built.into_iter().zip(evaluated).enumerate() {
-            out.push(match segment {
+            .enumerate()
+            .map(|(k, (segment, old))| match segment {
                 Some(segment) => {
                     let evaluated = self.measure_near(k, segment, old, chord_error);
-                    total += cost(std::slice::from_ref(&evaluated));
-                    if total > bound {
-                        return Err(Rejected::Worse);
-                    }
                     let memo_key = self.evaluation_key(k, chord_error);
                     self.memo
                         .0
@@ -400,19 +389,9 @@ impl State<'_> {
                     evaluated
                 }
                 None => old.clone(),
-            });
-        }
-        Ok(out)
+            })
+            .collect())
     }
-}
-
-/// Why [`State::evaluate_all_from`] gave up on a state.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub(crate) enum Rejected {
-    /// This segment cannot be built.
-    Unbuildable(usize),
-    /// The cost exceeds the bound.
-    Worse,
 }
 
 /// Sum of squared residuals.
