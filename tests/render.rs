@@ -420,15 +420,19 @@ fn toggling_an_overlay_changes_pixels_only_where_it_draws() {
             *a = c && !b;
         }
         let partial = draw(&file, &out, size, &RenderOptions::with_overlays(without));
-        // The overlay alone on a background no overlay paints (pure black): every pixel it
-        // covers shows, also where it paints white (the legend's panel).
-        let mut alone_options = RenderOptions::with_overlays(alone);
-        alone_options.background = [0, 0, 0, 255];
-        let only = draw(&file, &out, size, &alone_options);
-        let mask: Vec<bool> = only
+        // The overlay alone, on black and on white: every pixel it covers shows on one of them,
+        // whatever colour it paints there (white, like the legend's panel, or black).
+        let on = |background: [u8; 4]| {
+            let mut options = RenderOptions::with_overlays(alone);
+            options.background = background;
+            draw(&file, &out, size, &options)
+        };
+        let (on_black, on_white) = (on([0, 0, 0, 255]), on([255, 255, 255, 255]));
+        let mask: Vec<bool> = on_black
             .data()
             .chunks_exact(4)
-            .map(|c| c[..3].iter().any(|&v| v != 0))
+            .zip(on_white.data().chunks_exact(4))
+            .map(|(b, w)| b[..3].iter().any(|&v| v != 0) || w[..3].iter().any(|&v| v != 255))
             .collect();
         let diff = differing(&full, &partial, 0);
         assert!(!diff.is_empty(), "{name}: toggling changed nothing");
