@@ -80,12 +80,13 @@ fn main() {
             segments += segs;
             relative_rms += rms;
             println!(
-                "{:8.2} ms  {:4} samples {:3} segs  {}#{}",
+                "{:8.2} ms  {:4} samples {:3} segs  {}#{}  rms/tolerance {:.4}",
                 best * 1e3,
                 s.samples.len(),
                 segs,
                 path.file_name().unwrap_or_default().to_string_lossy(),
-                i
+                i,
+                rms
             );
         }
     }
