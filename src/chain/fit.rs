@@ -1,7 +1,9 @@
+use std::collections::HashSet;
+
 use serde::{Deserialize, Serialize};
 
 use super::refine::{RefineOptions, refine};
-use super::state::{Joint, State};
+use super::state::{Joint, SegmentKey, State};
 use crate::bspline::BSpline;
 use crate::bspline::project::Pieces;
 use crate::geom::{Point, Vec2};
@@ -203,8 +205,10 @@ pub fn fit_chain(
         fitter.repair(&mut state, &mut searches)?;
     }
     let refine_options = fitter.refine_options(&state);
+    // The segments the last refinement ended with (see `Fitter::refine_guarded`).
+    let mut settled = None;
     if options.refine {
-        fitter.refine_guarded(&mut state, &refine_options);
+        fitter.refine_guarded(&mut state, &refine_options, &mut settled);
     }
     for _ in 0..options.max_depth {
         if !fitter.subdivide(&mut state, &mut searches) {
@@ -212,14 +216,14 @@ pub fn fit_chain(
         }
         fitter.repair(&mut state, &mut searches)?;
         if options.refine {
-            fitter.refine_guarded(&mut state, &refine_options);
+            fitter.refine_guarded(&mut state, &refine_options, &mut settled);
         }
     }
     if options.merge {
         let straightened = fitter.straighten(&mut state, &mut searches);
         let merged = fitter.merge(&mut state, &mut searches);
         if (straightened || merged) && options.refine {
-            fitter.refine_guarded(&mut state, &refine_options);
+            fitter.refine_guarded(&mut state, &refine_options, &mut settled);
         }
     }
     // Straightening and merging check the segments they change, but a refinement guarded on the
@@ -236,6 +240,31 @@ pub fn fit_chain(
         fitter.repair(&mut state, &mut searches)?;
     }
     fitter.finish(&state, searches)
+}
+
+/// How far from a changed segment a later refinement still moves the chain (in segments): 1,
+/// the neighbours, which share a joint with it. Over the fixture strokes up to 600 samples,
+/// against refining the whole chain every time: 16 % fewer instructions on the median stroke
+/// (15.5 M against 18.3 M), 5 % fewer in all, 736 segments against 731 and the rms distance
+/// 0.237 of the tolerance against 0.235. 0 saves 10 % in all but lifts the rms distance to 0.244;
+/// 2 gives back most of the saving for no better fit.
+const NEIGHBOUR_RING: usize = 1;
+
+/// The segments a refinement may move after `settled` (the segments the last refinement ended
+/// with): those not among them (cut by a subdivision, made by a merge, or next to a moved joint)
+/// and those within [`NEIGHBOUR_RING`] of them. Elsewhere the chain is where the last refinement
+/// left it, at a minimum of its own residuals: moving it again costs a Jacobian and an
+/// evaluation per segment and iteration for changes far below the tolerance.
+fn changed_and_neighbours(state: &State<'_>, settled: &HashSet<SegmentKey>) -> Vec<bool> {
+    let changed: Vec<bool> = (0..state.len())
+        .map(|k| !settled.contains(&state.key(k)))
+        .collect();
+    (0..changed.len())
+        .map(|k| {
+            (k.saturating_sub(NEIGHBOUR_RING)..=(k + NEIGHBOUR_RING).min(changed.len() - 1))
+                .any(|m| changed[m])
+        })
+        .collect()
 }
 
 /// What [`Fitter::search`] found.
@@ -544,14 +573,30 @@ impl<'a> Fitter<'a> {
     /// Refines, keeping the result only if its largest sample distance stays within the tolerance
     /// or at most where it was: least squares lowers the sum of squares, which can still lift one
     /// sample over the tolerance.
-    fn refine_guarded(&self, state: &mut State<'a>, options: &RefineOptions) {
+    ///
+    /// `settled` holds the segments of the chain the last refinement ended with (`None` before
+    /// the first): only the segments not among them, and their neighbours, move (see
+    /// [`Fitter::changed_and_neighbours`]); it is updated to this refinement's chain.
+    fn refine_guarded(
+        &self,
+        state: &mut State<'a>,
+        options: &RefineOptions,
+        settled: &mut Option<HashSet<SegmentKey>>,
+    ) {
+        let active = settled
+            .as_ref()
+            .map(|keys| changed_and_neighbours(state, keys));
+        if active.as_ref().is_some_and(|a| !a.contains(&true)) {
+            return;
+        }
         let before = state.clone();
         // `refine` measures the chain (all samples) before and after: no evaluation is repeated.
-        if let Some(r) = refine(state, options)
+        if let Some(r) = refine(state, options, active.as_deref())
             && r.end_max > self.tolerance.max(r.start_max)
         {
             *state = before;
         }
+        *settled = Some((0..state.len()).map(|k| state.key(k)).collect());
     }
 
     /// Makes every segment of the state constructible: a segment whose α cannot join its joints

@@ -97,36 +97,45 @@ enum Unknown {
 }
 
 /// The unknowns in band order (joint₀, α₀, joint₁, α₁, …) and, for each segment, the
-/// contiguous range of unknown indices its residuals depend on.
+/// contiguous range of unknown indices its residuals depend on. With `active` (one flag per
+/// segment), only the segments flagged may change: their α, and the joints all of whose
+/// segments are flagged; the others get an empty range.
 fn unknowns(
     state: &State<'_>,
     options: &RefineOptions,
+    active: Option<&[bool]>,
 ) -> (Vec<Unknown>, Vec<std::ops::Range<usize>>) {
+    let segments = state.len();
+    let moves = |k: usize| active.is_none_or(|a| a.get(k).copied().unwrap_or(false));
     let mut out = Vec::new();
-    let mut joint_start = Vec::with_capacity(state.joints.len() + 1);
     for (j, joint) in state.joints.iter().enumerate() {
-        joint_start.push(out.len());
-        if !joint.fixed {
-            out.push(Unknown::X(j));
-            out.push(Unknown::Y(j));
+        // A joint moves the segments on both sides of it: it is free only when they all may change.
+        let free = (j == 0 || moves(j - 1)) && (j == segments || moves(j));
+        if free {
+            if !joint.fixed {
+                out.push(Unknown::X(j));
+                out.push(Unknown::Y(j));
+            }
+            out.push(Unknown::Angle(j));
         }
-        out.push(Unknown::Angle(j));
-        if options.alpha_range.is_some() && j < state.len() {
+        if options.alpha_range.is_some() && j < segments && moves(j) {
             out.push(Unknown::Alpha(j));
         }
     }
-    joint_start.push(out.len());
-    // Segment k: from joint k's first unknown to joint k+1's last (its α lies in between).
-    let ranges = (0..state.len())
+    // Segment k depends on joint k's unknowns, α_k and joint k+1's unknowns: contiguous in this
+    // order (empty for a segment that may not change).
+    let touches = |u: Unknown, k: usize| match u {
+        Unknown::X(j) | Unknown::Y(j) | Unknown::Angle(j) => j == k || j == k + 1,
+        Unknown::Alpha(m) => m == k,
+    };
+    let ranges = (0..segments)
         .map(|k| {
-            let end = joint_start[k + 2].min(out.len());
-            // Joint k+1's own unknowns end before α_{k+1}.
-            let end = if options.alpha_range.is_some() && k + 1 < state.len() {
-                end - 1
-            } else {
-                end
-            };
-            joint_start[k]..end
+            let start = out.iter().position(|&u| touches(u, k));
+            let end = out.iter().rposition(|&u| touches(u, k));
+            match (start, end) {
+                (Some(a), Some(b)) => a..b + 1,
+                _ => 0..0,
+            }
         })
         .collect();
     (out, ranges)
@@ -166,13 +175,18 @@ fn step_of(unknown: Unknown, options: &RefineOptions) -> f64 {
     }
 }
 
-/// Refines `state` in place; returns the chain's largest sample distance before and after (or
-/// `None` if the start itself cannot be evaluated, in which case the state is untouched).
-pub(crate) fn refine(state: &mut State<'_>, options: &RefineOptions) -> Option<Refined> {
+/// Refines `state` in place, moving only the segments flagged in `active` (all when `None`; see
+/// [`unknowns`]); returns the chain's largest sample distance before and after (or `None` if the
+/// start itself cannot be evaluated, in which case the state is untouched).
+pub(crate) fn refine(
+    state: &mut State<'_>,
+    options: &RefineOptions,
+    active: Option<&[bool]>,
+) -> Option<Refined> {
     let mut current = state.evaluate_all(options.chord_error).ok()?;
     let start_max = max_distance(&current);
     let mut current_cost = cost(&current);
-    let (unknowns, ranges) = unknowns(state, options);
+    let (unknowns, ranges) = unknowns(state, options, active);
     if unknowns.is_empty() || current_cost == 0.0 {
         return Some(Refined {
             start_max,
@@ -312,6 +326,10 @@ fn jacobian(
         .map(|(k, e)| {
             let range = ranges[k].clone();
             let cols = range.len();
+            if cols == 0 {
+                // A segment held as it is: no column, nothing to build.
+                return Vec::new();
+            }
             let column = |u: Unknown| {
                 range
                     .clone()
@@ -743,7 +761,7 @@ mod tests {
             tolerance: 0.1,
         };
         let current = state.evaluate_all(options.chord_error).expect("evaluates");
-        let (unknowns, ranges) = unknowns(&state, &options);
+        let (unknowns, ranges) = unknowns(&state, &options, None);
         let fast = jacobian(&state, &current, &unknowns, &ranges, &options);
         let slow = jacobian_by_differences(&state, &current, &unknowns, &ranges, &options);
         for (k, (f, d)) in fast.iter().zip(&slow).enumerate() {
@@ -762,5 +780,50 @@ mod tests {
                 }
             }
         }
+    }
+
+    #[test]
+    fn a_refinement_of_some_segments_leaves_the_others_as_they_are() {
+        let (points, joints, alphas, samples) = points_and_state();
+        let mut state = State {
+            points: &points,
+            joints,
+            alphas,
+            samples,
+            max_curvature: f64::INFINITY,
+            memo: Default::default(),
+        };
+        let options = RefineOptions {
+            max_iterations: 30,
+            alpha_range: Some((-3.0, 3.0)),
+            chord_error: 1e-4,
+            scale: 70.0,
+            tolerance: 0.1,
+        };
+        // Only the second segment may change: its α and its end joint move, the shared joint
+        // and the first segment do not.
+        let active = [false, true];
+        let (unknowns_of, ranges) = unknowns(&state, &options, Some(&active));
+        assert!(ranges[0].is_empty());
+        assert_eq!(
+            unknowns_of,
+            vec![
+                Unknown::Alpha(1),
+                Unknown::X(2),
+                Unknown::Y(2),
+                Unknown::Angle(2)
+            ]
+        );
+        let before = state.clone();
+        let cost_before = cost(&state.evaluate_all(options.chord_error).expect("evaluates"));
+        refine(&mut state, &options, Some(&active)).expect("refines");
+        assert_eq!(state.joints[..2], before.joints[..2]);
+        assert_eq!(state.alphas[0], before.alphas[0]);
+        assert!(state.joints[2] != before.joints[2] && state.alphas[1] != before.alphas[1]);
+        let cost_after = cost(&state.evaluate_all(options.chord_error).expect("evaluates"));
+        assert!(cost_after < cost_before, "{cost_after} vs {cost_before}");
+        // Nothing flagged: nothing to move.
+        let (none, _) = unknowns(&state, &options, Some(&[false, false]));
+        assert!(none.is_empty());
     }
 }

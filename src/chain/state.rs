@@ -60,7 +60,7 @@ pub(crate) struct State<'a> {
 }
 
 /// A segment's data: both joints' position and angle and its α, as bits.
-type SegmentKey = [u64; 7];
+pub(crate) type SegmentKey = [u64; 7];
 
 /// An evaluation's data: the segment's, its samples, the chord error's bits, and which end
 /// anchors its residuals carry (joint index, sample index).
@@ -149,7 +149,7 @@ impl State<'_> {
     }
 
     /// Segment `k`'s data as a memo key.
-    fn key(&self, k: usize) -> SegmentKey {
+    pub(crate) fn key(&self, k: usize) -> SegmentKey {
         let (a, b) = (self.joints[k], self.joints[k + 1]);
         [
             a.p.x.to_bits(),
