@@ -9,7 +9,7 @@ use crate::bspline::project::Pieces;
 use crate::geom::{Point, Vec2};
 use crate::lac::lcg::{lcg_of_bezier_span, lcg_slope};
 use crate::lac::{
-    AlphaChoice, AlphaSearch, LacError, LacSegment,
+    AlphaChoice, AlphaSearch, LacError, LacSegment, SpanFitOptions,
     alpha_search::{ALPHA_TOLERANCE, SEED_ALPHA_TOLERANCE},
     biarc, deviation, fit_span, within,
 };
@@ -41,6 +41,14 @@ const SPAN_REFERENCE_POINTS: usize = 8;
 /// search: enough to average out the B-spline's curvature wiggles, a few microseconds of
 /// evaluation.
 const LCG_GUESS_POINTS: usize = 16;
+
+/// A merge's α search gives up when the merged segment at its starting α (the parts' α,
+/// weighted by their samples) misses a sample by more than this many tolerances: the search
+/// moves α by little from there, and a segment that far off does not come within the
+/// tolerance. Over the fixture strokes up to 600 samples: 8 % fewer instructions in all and on
+/// the median stroke, 737 segments against 736 and the same rms distance (0.236 of the
+/// tolerance against 0.237); 2 saves 2 % more for 6 more segments; 4 saves 6 % for none.
+const MERGE_ABANDON_FACTOR: f64 = 3.0;
 
 /// Options of [`fit_chain`].
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -306,12 +314,20 @@ impl<'a> Fitter<'a> {
         }
     }
 
-    /// The α search's tolerance: coarse when the refinement will move α anyway.
-    fn alpha_tolerance(&self) -> f64 {
-        if self.options.refine {
-            SEED_ALPHA_TOLERANCE
-        } else {
-            ALPHA_TOLERANCE
+    /// The α search's options: the chain's α choice, chord error and curvature limit; a coarse
+    /// α tolerance when the refinement will move α anyway; no guess, never abandoned.
+    fn span_options(&self) -> SpanFitOptions {
+        SpanFitOptions {
+            choice: self.options.alpha,
+            chord_error: self.chord_error,
+            max_curvature: self.max_curvature,
+            guess: None,
+            alpha_tolerance: if self.options.refine {
+                SEED_ALPHA_TOLERANCE
+            } else {
+                ALPHA_TOLERANCE
+            },
+            abandon_above: f64::INFINITY,
         }
     }
 
@@ -363,6 +379,7 @@ impl<'a> Fitter<'a> {
         samples: &[usize],
         u: (f64, f64),
         guess: Option<f64>,
+        abandon_above: f64,
     ) -> Result<Searched, LacError> {
         let points: Vec<Point> = if samples.len() >= MIN_SPAN_SAMPLES {
             samples.iter().map(|&i| self.input.points[i]).collect()
@@ -375,11 +392,11 @@ impl<'a> Fitter<'a> {
             b.p,
             b.tangent(),
             &points,
-            self.options.alpha,
-            self.chord_error,
-            self.max_curvature,
-            guess,
-            self.alpha_tolerance(),
+            &SpanFitOptions {
+                guess,
+                abandon_above,
+                ..self.span_options()
+            },
         )?;
         // Arcs and lines have no α: any value reproduces them; keep the range's middle.
         let alpha = fit.segment.alpha().unwrap_or(self.options.alpha.middle());
@@ -434,7 +451,7 @@ impl<'a> Fitter<'a> {
             // The slope of the span's logarithmic curvature graph starts the α search.
             let guess = lcg_slope(&lcg_of_bezier_span(&pieces, LCG_GUESS_POINTS));
             let (alpha, search) = self
-                .search(&start, &end, &held, (u0, u1), guess)
+                .search(&start, &end, &held, (u0, u1), guess, f64::INFINITY)
                 .map(|found| (found.alpha, found.search))
                 .unwrap_or((self.options.alpha.middle(), AlphaSearch::default()));
             alphas.push(alpha);
@@ -549,7 +566,7 @@ impl<'a> Fitter<'a> {
             let parent = state.alphas[k];
             let searched = |x: &Joint, y: &Joint, s: &[usize]| {
                 if s.len() >= MIN_SPAN_SAMPLES {
-                    self.search(x, y, s, (0.0, 0.0), Some(parent))
+                    self.search(x, y, s, (0.0, 0.0), Some(parent), f64::INFINITY)
                         .ok()
                         .map(|found| (found.alpha, found.search))
                 } else {
@@ -625,11 +642,7 @@ impl<'a> Fitter<'a> {
                 b.p,
                 b.tangent(),
                 &reference,
-                self.options.alpha,
-                self.chord_error,
-                self.max_curvature,
-                None,
-                self.alpha_tolerance(),
+                &self.span_options(),
             ) {
                 state.alphas[k] = fit.segment.alpha().unwrap_or(middle);
                 searches[k] = fit.search;
@@ -792,8 +805,14 @@ impl<'a> Fitter<'a> {
                 // Too few samples to decide the merged shape: the search ran on the B-spline's
                 // points instead, and the merged segment must stay within the tolerance of them.
                 let sparse = union.len() < MIN_SPAN_SAMPLES;
-                if let Ok(found) = self.search(&a, &b, &union, (a.u, b.u), Some(guess))
-                    && (!sparse || found.max <= self.tolerance)
+                if let Ok(found) = self.search(
+                    &a,
+                    &b,
+                    &union,
+                    (a.u, b.u),
+                    Some(guess),
+                    MERGE_ABANDON_FACTOR * self.tolerance,
+                ) && (!sparse || found.max <= self.tolerance)
                 {
                     let (alpha, search) = (found.alpha, found.search);
                     let mut trial = state.clone();

@@ -129,26 +129,62 @@ pub struct SpanFit {
     pub search: AlphaSearch,
 }
 
+/// Options of [`fit_span`].
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct SpanFitOptions {
+    /// The α values allowed. Default: [`AlphaChoice::default`], the range [−3, 3].
+    pub choice: AlphaChoice,
+    /// Distances are exact to this (a length in the samples' units). No default: it follows the
+    /// tolerance (see [`SpanFitOptions::new`]).
+    pub chord_error: f64,
+    /// Segments whose curvature anywhere exceeds this in magnitude count as infeasible. Default
+    /// +∞ (no limit).
+    pub max_curvature: f64,
+    /// A starting guess of α (clamped to the range; ignored when not finite): the search walks
+    /// from it instead of scanning the whole grid. Default `None`.
+    pub guess: Option<f64>,
+    /// Brent stops within this of the minimum. Default [`ALPHA_TOLERANCE`] (a final answer);
+    /// [`SEED_ALPHA_TOLERANCE`] when a refinement follows.
+    pub alpha_tolerance: f64,
+    /// Give up ([`LacError::SearchAbandoned`]) when the segment at the guess has a sample
+    /// farther than this from it: for a caller that only wants a segment within some distance
+    /// of the samples (a merge) and knows that a guess missing by far more will not get there.
+    /// Default +∞ (never give up).
+    pub abandon_above: f64,
+}
+
+impl SpanFitOptions {
+    /// Options with this chord error and every other field at its default.
+    pub fn new(chord_error: f64) -> Self {
+        SpanFitOptions {
+            choice: AlphaChoice::default(),
+            chord_error,
+            max_curvature: f64::INFINITY,
+            guess: None,
+            alpha_tolerance: ALPHA_TOLERANCE,
+            abandon_above: f64::INFINITY,
+        }
+    }
+}
+
 /// Fits the best LAC segment (see the module doc) through `a` (tangent `ta`) and `b` (tangent
-/// `tb`) to `samples`, ordered from `a` to `b`. Distances are exact to `chord_error`. Segments
-/// whose curvature anywhere exceeds `max_curvature` in magnitude count as infeasible (pass
-/// `f64::INFINITY` for no limit). With a `guess` of α (clamped to the range; ignored when not
-/// finite) the search walks from it instead of scanning the whole grid. Brent stops within
-/// `alpha_tolerance` of the minimum ([`ALPHA_TOLERANCE`] for a final answer,
-/// [`SEED_ALPHA_TOLERANCE`] to seed a refinement).
-#[allow(clippy::too_many_arguments)]
+/// `tb`) to `samples`, ordered from `a` to `b`, as set by `options`.
 pub fn fit_span(
     a: Point,
     ta: Vec2,
     b: Point,
     tb: Vec2,
     samples: &[Point],
-    choice: AlphaChoice,
-    chord_error: f64,
-    max_curvature: f64,
-    guess: Option<f64>,
-    alpha_tolerance: f64,
+    options: &SpanFitOptions,
 ) -> Result<SpanFit, LacError> {
+    let SpanFitOptions {
+        choice,
+        chord_error,
+        max_curvature,
+        guess,
+        alpha_tolerance,
+        abandon_above,
+    } = *options;
     choice.validate()?;
     let (min, max) = match choice {
         AlphaChoice::Range { min, max } => (min, max),
@@ -200,6 +236,14 @@ pub fn fit_span(
     }
     if min == max {
         return Err(LacError::NoAlphaInRange { min, max });
+    }
+    if let (Some(_), Some((_, d))) = (guess, &first)
+        && d.max > abandon_above
+    {
+        return Err(LacError::SearchAbandoned {
+            max: d.max,
+            limit: abandon_above,
+        });
     }
 
     let mut grid = Vec::new();
@@ -356,4 +400,74 @@ fn walk(
 /// ends bound it).
 pub fn within(segment: &LacSegment, max_curvature: f64) -> bool {
     segment.kappa0().abs().max(segment.kappa1().abs()) <= max_curvature
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// G1 data and samples of a planted segment of slope `alpha`.
+    fn planted(alpha: f64) -> (LacSegment, Vec<Point>) {
+        let segment = LacSegment::new(Point::new(2.0, -1.0), 0.4, 30.0, Some(alpha), 0.08, 0.02)
+            .expect("segment");
+        let samples = (1..40)
+            .map(|i| segment.point(segment.length() * i as f64 / 40.0))
+            .collect();
+        (segment, samples)
+    }
+
+    fn search(
+        segment: &LacSegment,
+        samples: &[Point],
+        options: &SpanFitOptions,
+    ) -> Result<SpanFit, LacError> {
+        let tangent = |theta: f64| Vec2::new(theta.cos(), theta.sin());
+        fit_span(
+            segment.start(),
+            tangent(segment.theta0()),
+            segment.end(),
+            tangent(segment.theta1()),
+            samples,
+            options,
+        )
+    }
+
+    #[test]
+    fn the_search_finds_a_planted_alpha() {
+        for alpha in [-1.0, 0.0, 0.5, 1.5] {
+            let (segment, samples) = planted(alpha);
+            for guess in [None, Some(alpha + 1.2)] {
+                let options = SpanFitOptions {
+                    guess,
+                    ..SpanFitOptions::new(1e-6)
+                };
+                let fit = search(&segment, &samples, &options).expect("fits");
+                let found = fit.segment.alpha().expect("a spiral");
+                assert!(
+                    (found - alpha).abs() < 0.05,
+                    "α {alpha}, guess {guess:?}: {found}"
+                );
+                assert!(fit.deviation.max < 1e-3, "{}", fit.deviation.max);
+            }
+        }
+    }
+
+    #[test]
+    fn a_search_gives_up_only_when_its_guess_misses_by_more_than_the_limit() {
+        let (segment, samples) = planted(-1.0);
+        let options = |guess: f64, abandon_above: f64| SpanFitOptions {
+            guess: Some(guess),
+            abandon_above,
+            ..SpanFitOptions::new(1e-6)
+        };
+        // The clothoid's own α fits to rounding; α = 2 misses by far more than 1e-3.
+        assert!(search(&segment, &samples, &options(-1.0, 1e-3)).is_ok());
+        assert!(matches!(
+            search(&segment, &samples, &options(2.0, 1e-3)),
+            Err(LacError::SearchAbandoned { max, limit }) if max > limit && limit == 1e-3
+        ));
+        // Without a limit the same guess still finds the clothoid.
+        let fit = search(&segment, &samples, &options(2.0, f64::INFINITY)).expect("fits");
+        assert!((fit.segment.alpha().expect("a spiral") + 1.0).abs() < 0.05);
+    }
 }

@@ -94,6 +94,15 @@ pub enum LacError {
         /// Largest α allowed.
         max: f64,
     },
+    /// The α search gave up: the segment at the caller's guess missed the samples by more than
+    /// the caller's limit (see [`super::alpha_search::SpanFitOptions::abandon_above`]).
+    #[error("alpha search abandoned: the guess misses a sample by {max}, beyond {limit}")]
+    SearchAbandoned {
+        /// The largest sample distance at the guess.
+        max: f64,
+        /// The caller's limit.
+        limit: f64,
+    },
     /// An α range or fixed α that is not finite, or an empty range.
     #[error("the alpha range [{min}, {max}] is not a finite, non-empty interval")]
     InvalidAlphaRange {

@@ -35,7 +35,7 @@ mod special;
 pub mod standard;
 pub mod yoshida_saito;
 
-pub use alpha_search::{AlphaChoice, AlphaSearch, SpanFit, fit_span, within};
+pub use alpha_search::{AlphaChoice, AlphaSearch, SpanFit, SpanFitOptions, fit_span, within};
 pub use biarc::biarc;
 pub use deviation::{Deviation, deviation, rough_deviation};
 pub use error::LacError;
