@@ -9,7 +9,7 @@ use crate::bspline::project::Pieces;
 use crate::geom::{Point, Vec2};
 use crate::lac::lcg::{lcg_of_bezier_span, lcg_slope};
 use crate::lac::{
-    AlphaChoice, AlphaSearch, LacError, LacSegment, SpanFitOptions,
+    AlphaChoice, AlphaSearch, Deviation, LacError, LacSegment, SpanFitOptions,
     alpha_search::{ALPHA_TOLERANCE, SEED_ALPHA_TOLERANCE},
     biarc, deviation, fit_span, within,
 };
@@ -284,6 +284,10 @@ struct Searched {
     /// The largest distance to the chosen segment from the points searched on: the samples, or
     /// the B-spline's reference points where the samples were too few.
     max: f64,
+    /// The chosen segment and its samples' distances, when the search ran on the samples (not
+    /// on reference points): what [`State::remember`] takes, so that the state does not build
+    /// and measure it again.
+    fit: Option<(LacSegment, Deviation)>,
 }
 
 /// The state shared by the fitting steps.
@@ -381,7 +385,8 @@ impl<'a> Fitter<'a> {
         guess: Option<f64>,
         abandon_above: f64,
     ) -> Result<Searched, LacError> {
-        let points: Vec<Point> = if samples.len() >= MIN_SPAN_SAMPLES {
+        let on_samples = samples.len() >= MIN_SPAN_SAMPLES;
+        let points: Vec<Point> = if on_samples {
             samples.iter().map(|&i| self.input.points[i]).collect()
         } else {
             self.reference_points(u)
@@ -404,6 +409,7 @@ impl<'a> Fitter<'a> {
             alpha,
             search: fit.search,
             max: fit.deviation.max,
+            fit: on_samples.then_some((fit.segment, fit.deviation)),
         })
     }
 
@@ -436,6 +442,7 @@ impl<'a> Fitter<'a> {
         let runs = self.runs();
         let mut joints = vec![self.joint_at(all[0].u0, all[0].start.into())];
         let (mut alphas, mut samples, mut searches) = (Vec::new(), Vec::new(), Vec::new());
+        let mut fits = Vec::new();
         for run in runs {
             let (first, last) = (&all[run.start], &all[run.end - 1]);
             let (u0, u1) = (first.u0, last.u1);
@@ -450,26 +457,30 @@ impl<'a> Fitter<'a> {
             // α its samples choose or splits it into a biarc.
             // The slope of the span's logarithmic curvature graph starts the α search.
             let guess = lcg_slope(&lcg_of_bezier_span(&pieces, LCG_GUESS_POINTS));
-            let (alpha, search) = self
+            let (alpha, search, fit) = self
                 .search(&start, &end, &held, (u0, u1), guess, f64::INFINITY)
-                .map(|found| (found.alpha, found.search))
-                .unwrap_or((self.options.alpha.middle(), AlphaSearch::default()));
+                .map(|found| (found.alpha, found.search, found.fit))
+                .unwrap_or((self.options.alpha.middle(), AlphaSearch::default(), None));
+            fits.push(fit);
             alphas.push(alpha);
             samples.push(held);
             searches.push(search);
             joints.push(end);
         }
-        Ok((
-            State {
-                points: self.input.points,
-                joints,
-                alphas,
-                samples,
-                max_curvature: self.max_curvature,
-                memo: Default::default(),
-            },
-            searches,
-        ))
+        let state = State {
+            points: self.input.points,
+            joints,
+            alphas,
+            samples,
+            max_curvature: self.max_curvature,
+            memo: Default::default(),
+        };
+        for (k, fit) in fits.into_iter().enumerate() {
+            if let Some((segment, deviation)) = fit {
+                state.remember(k, segment, deviation, self.chord_error);
+            }
+        }
+        Ok((state, searches))
     }
 
     /// The runs of consecutive spans that start as one segment each: a run closes once it holds
@@ -568,19 +579,24 @@ impl<'a> Fitter<'a> {
                 if s.len() >= MIN_SPAN_SAMPLES {
                     self.search(x, y, s, (0.0, 0.0), Some(parent), f64::INFINITY)
                         .ok()
-                        .map(|found| (found.alpha, found.search))
+                        .map(|found| (found.alpha, found.search, found.fit))
                 } else {
                     None
                 }
             };
-            let (alpha0, search0) =
-                searched(&a, &mid, &first).unwrap_or((parent, AlphaSearch::default()));
-            let (alpha1, search1) =
-                searched(&mid, &b, &second).unwrap_or((parent, AlphaSearch::default()));
+            let (alpha0, search0, fit0) =
+                searched(&a, &mid, &first).unwrap_or((parent, AlphaSearch::default(), None));
+            let (alpha1, search1, fit1) =
+                searched(&mid, &b, &second).unwrap_or((parent, AlphaSearch::default(), None));
             state.joints.insert(k + 1, mid);
             state.alphas.splice(k..=k, [alpha0, alpha1]);
             state.samples.splice(k..=k, [first, second]);
             searches.splice(k..=k, [search0, search1]);
+            for (m, fit) in [(k, fit0), (k + 1, fit1)] {
+                if let Some((segment, deviation)) = fit {
+                    state.remember(m, segment, deviation, self.chord_error);
+                }
+            }
             cut = true;
             k += 2;
         }
@@ -819,6 +835,9 @@ impl<'a> Fitter<'a> {
                     trial.joints.remove(j);
                     trial.alphas.splice(j - 1..=j, [alpha]);
                     trial.samples.splice(j - 1..=j, [union]);
+                    if let Some((segment, deviation)) = found.fit {
+                        trial.remember(j - 1, segment, deviation, self.chord_error);
+                    }
                     if matches!(trial.evaluate(j - 1, self.chord_error), Ok(e) if e.max <= self.tolerance)
                     {
                         *state = trial;

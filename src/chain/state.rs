@@ -213,6 +213,23 @@ impl State<'_> {
         self.evaluated(k, segment, d)
     }
 
+    /// Records `segment` as segment `k` of this state, with `deviation`, its samples' exact
+    /// distances (computed with `chord_error`): a search that chose the segment for exactly this
+    /// segment's joints, α and samples has built and measured it already. Kept only when the
+    /// curvature limit allows the segment (as [`State::segment`] would).
+    pub fn remember(&self, k: usize, segment: LacSegment, deviation: Deviation, chord_error: f64) {
+        if !within(&segment, self.max_curvature)
+            || deviation.distances.len() != self.samples[k].len()
+        {
+            return;
+        }
+        let evaluated = self.evaluated(k, segment, deviation);
+        let (key, memo_key) = (self.key(k), self.evaluation_key(k, chord_error));
+        let mut tables = self.memo.0.borrow_mut();
+        tables.segments.insert(key, Ok(segment));
+        tables.evaluations.insert(memo_key, evaluated);
+    }
+
     /// The evaluation of segment `k` from its samples' distances.
     fn evaluated(&self, k: usize, segment: LacSegment, d: Deviation) -> Evaluated {
         let mut residuals: Vec<f64> = d
