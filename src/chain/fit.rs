@@ -858,12 +858,22 @@ impl<'a> Fitter<'a> {
         let mut segments = Vec::with_capacity(n);
         let mut previous_end = self.input.samples.0;
         for (k, search) in searches.into_iter().enumerate() {
-            let segment = state.segment(k).map_err(|source| ChainError::Span {
-                u0: 0.0,
-                u1: 0.0,
-                source,
-            })?;
-            let d = deviation(&segment, &state.points_of(k), self.chord_error);
+            // The last refinement or search measured it already (the memo), else measured now.
+            let evaluated =
+                state
+                    .evaluate(k, self.chord_error)
+                    .map_err(|source| ChainError::Span {
+                        u0: 0.0,
+                        u1: 0.0,
+                        source,
+                    })?;
+            let segment = evaluated.segment;
+            let distances = &evaluated.residuals[..state.samples[k].len()];
+            let rms = if distances.is_empty() {
+                0.0
+            } else {
+                (distances.iter().map(|r| r * r).sum::<f64>() / distances.len() as f64).sqrt()
+            };
             let held: Vec<usize> = state.samples[k]
                 .iter()
                 .map(|&i| self.input.indices[i])
@@ -888,8 +898,8 @@ impl<'a> Fitter<'a> {
             segments.push(ChainSegment {
                 segment,
                 samples: (first, last.max(first)),
-                max_deviation: d.max,
-                rms_deviation: d.rms,
+                max_deviation: evaluated.max,
+                rms_deviation: rms,
                 search,
                 start: state.joints[k].kind,
                 end: state.joints[k + 1].kind,
