@@ -742,24 +742,39 @@ mod tests {
         (points, joints, vec![0.45, -0.9], samples)
     }
 
-    #[test]
-    fn the_fast_jacobian_matches_forward_differences() {
-        let (points, joints, alphas, samples) = points_and_state();
-        let state = State {
-            points: &points,
+    /// The state of [`points_and_state`]'s data, no curvature limit.
+    fn test_state(
+        points: &[Point],
+        joints: Vec<Joint>,
+        alphas: Vec<f64>,
+        samples: Vec<Vec<usize>>,
+    ) -> State<'_> {
+        State {
+            points,
             joints,
             alphas,
             samples,
             max_curvature: f64::INFINITY,
             memo: Default::default(),
-        };
-        let options = RefineOptions {
-            max_iterations: 1,
+        }
+    }
+
+    /// Refinement options for [`points_and_state`]'s chain (about 70 long, noise 0.03).
+    fn test_options(max_iterations: usize) -> RefineOptions {
+        RefineOptions {
+            max_iterations,
             alpha_range: Some((-3.0, 3.0)),
             chord_error: 1e-4,
             scale: 70.0,
             tolerance: 0.1,
-        };
+        }
+    }
+
+    #[test]
+    fn the_fast_jacobian_matches_forward_differences() {
+        let (points, joints, alphas, samples) = points_and_state();
+        let state = test_state(&points, joints, alphas, samples);
+        let options = test_options(1);
         let current = state.evaluate_all(options.chord_error).expect("evaluates");
         let (unknowns, ranges) = unknowns(&state, &options, None);
         let fast = jacobian(&state, &current, &unknowns, &ranges, &options);
@@ -785,21 +800,8 @@ mod tests {
     #[test]
     fn a_refinement_of_some_segments_leaves_the_others_as_they_are() {
         let (points, joints, alphas, samples) = points_and_state();
-        let mut state = State {
-            points: &points,
-            joints,
-            alphas,
-            samples,
-            max_curvature: f64::INFINITY,
-            memo: Default::default(),
-        };
-        let options = RefineOptions {
-            max_iterations: 30,
-            alpha_range: Some((-3.0, 3.0)),
-            chord_error: 1e-4,
-            scale: 70.0,
-            tolerance: 0.1,
-        };
+        let mut state = test_state(&points, joints, alphas, samples);
+        let options = test_options(30);
         // Only the second segment may change: its α and its end joint move, the shared joint
         // and the first segment do not.
         let active = [false, true];
