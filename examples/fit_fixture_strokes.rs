@@ -4,6 +4,10 @@
 //! beside the speed): a profiling aid, not a benchmark (that is `cargo bench --bench lac`). The instruction counts in the README come from
 //! `REPS=1 valgrind --tool=callgrind target/release/examples/fit_fixture_strokes`.
 //! Arguments filter the files by name; `ONLY=i` keeps stroke i of each.
+//! `TOLERANCE_FACTORS=0.9,1,1.1` fits every stroke once per factor of its file's default
+//! tolerance: the fit is chaotic in its details (a change far below the tolerance can move one
+//! stroke's work by a third), so comparing two versions over several tolerances tells a real
+//! change from a reshuffle better than one fit per stroke does.
 use kansei::pipeline::{PipelineOptions, fit_stroke};
 use kansei::stroke::StrokeFile;
 use std::time::Instant;
@@ -39,9 +43,19 @@ fn main() {
         let Ok(file) = StrokeFile::from_json(&text) else {
             continue;
         };
-        let tol = file.units.default_tolerance();
-        let options = PipelineOptions::default().with_tolerance(tol);
-        for (i, s) in file.strokes.iter().enumerate() {
+        let factors: Vec<f64> = std::env::var("TOLERANCE_FACTORS")
+            .ok()
+            .map(|v| v.split(',').filter_map(|f| f.trim().parse().ok()).collect())
+            .filter(|f: &Vec<f64>| !f.is_empty())
+            .unwrap_or_else(|| vec![1.0]);
+        for (factor, (i, s)) in factors.iter().flat_map(|&f| {
+            file.strokes
+                .iter()
+                .enumerate()
+                .map(move |stroke| (f, stroke))
+        }) {
+            let tol = factor * file.units.default_tolerance();
+            let options = PipelineOptions::default().with_tolerance(tol);
             if s.samples.len() > 600 {
                 continue;
             }
@@ -80,13 +94,14 @@ fn main() {
             segments += segs;
             relative_rms += rms;
             println!(
-                "{:8.2} ms  {:4} samples {:3} segs  {}#{}  rms/tolerance {:.4}",
+                "{:8.2} ms  {:4} samples {:3} segs  {}#{}  rms/tolerance {:.4}  tolerance ×{}",
                 best * 1e3,
                 s.samples.len(),
                 segs,
                 path.file_name().unwrap_or_default().to_string_lossy(),
                 i,
-                rms
+                rms,
+                factor
             );
         }
     }
