@@ -480,3 +480,68 @@ pub(crate) fn model_at_feet(
         })
         .collect()
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::lac::{SpanFitOptions, fit_span};
+
+    #[test]
+    fn a_remembered_search_result_is_what_the_state_would_build_and_measure() {
+        let planted = LacSegment::new(Point::new(3.0, 1.0), 0.5, 25.0, Some(0.7), 0.09, 0.03)
+            .expect("segment");
+        let points: Vec<Point> = (1..30)
+            .map(|i| {
+                let s = planted.length() * i as f64 / 30.0;
+                let th = planted.theta(s);
+                planted.point(s) + Vec2::new(-th.sin(), th.cos()) * (0.01 * (i % 3) as f64)
+            })
+            .collect();
+        let joint = |p: Point, angle: f64, kind: JointKind| Joint {
+            p,
+            angle,
+            kind,
+            fixed: false,
+            u: 0.0,
+        };
+        let joints = vec![
+            joint(planted.start(), planted.theta0(), JointKind::Start),
+            joint(planted.end(), planted.theta1(), JointKind::End),
+        ];
+        let chord_error = 1e-5;
+        let fit = fit_span(
+            joints[0].p,
+            joints[0].tangent(),
+            joints[1].p,
+            joints[1].tangent(),
+            &points,
+            &SpanFitOptions::new(chord_error),
+        )
+        .expect("fits");
+        let state = |alpha: f64| State {
+            points: &points,
+            joints: joints.clone(),
+            alphas: vec![alpha],
+            samples: vec![(0..points.len()).collect()],
+            max_curvature: f64::INFINITY,
+            memo: Default::default(),
+        };
+        let alpha = fit.segment.alpha().expect("a spiral");
+        let remembered = state(alpha);
+        remembered.remember(0, fit.segment, fit.deviation.clone(), chord_error);
+        let fresh = state(alpha);
+        let (a, b) = (
+            remembered.evaluate(0, chord_error).expect("evaluates"),
+            fresh.evaluate(0, chord_error).expect("evaluates"),
+        );
+        // The memo answers with the search's own segment and distances...
+        assert_eq!(a.segment, fit.segment);
+        assert_eq!(a.max, fit.deviation.max);
+        // ...which are the state's own to the construction's and the feet's accuracy.
+        assert_eq!(a.residuals.len(), b.residuals.len());
+        for (x, y) in a.residuals.iter().zip(&b.residuals) {
+            assert!((x - y).abs() < 1e-9 * planted.length(), "{x} vs {y}");
+        }
+        assert!((a.segment.kappa0() - b.segment.kappa0()).abs() < 1e-9 * b.segment.kappa0().abs());
+    }
+}
