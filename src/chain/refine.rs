@@ -719,13 +719,7 @@ mod tests {
                 points.push(seg.point(s) + Vec2::new(-th.sin(), th.cos()) * offset);
             }
         }
-        let joint = |p: Point, angle: f64, kind: JointKind| Joint {
-            p,
-            angle,
-            kind,
-            fixed: false,
-            u: 0.0,
-        };
+        let joint = Joint::free;
         let joints = vec![
             joint(Point::new(0.1, -0.05), 0.31, JointKind::Start),
             joint(

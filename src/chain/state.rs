@@ -34,6 +34,19 @@ pub(crate) struct Joint {
 }
 
 impl Joint {
+    /// A joint whose position may move, taken at B-spline parameter 0 (for tests that build a
+    /// state by hand).
+    #[cfg(test)]
+    pub fn free(p: Point, angle: f64, kind: JointKind) -> Self {
+        Joint {
+            p,
+            angle,
+            kind,
+            fixed: false,
+            u: 0.0,
+        }
+    }
+
     /// The unit tangent.
     pub fn tangent(&self) -> Vec2 {
         Vec2::new(self.angle.cos(), self.angle.sin())
@@ -497,16 +510,9 @@ mod tests {
                 planted.point(s) + Vec2::new(-th.sin(), th.cos()) * (0.01 * (i % 3) as f64)
             })
             .collect();
-        let joint = |p: Point, angle: f64, kind: JointKind| Joint {
-            p,
-            angle,
-            kind,
-            fixed: false,
-            u: 0.0,
-        };
         let joints = vec![
-            joint(planted.start(), planted.theta0(), JointKind::Start),
-            joint(planted.end(), planted.theta1(), JointKind::End),
+            Joint::free(planted.start(), planted.theta0(), JointKind::Start),
+            Joint::free(planted.end(), planted.theta1(), JointKind::End),
         ];
         let chord_error = 1e-5;
         let fit = fit_span(
