@@ -124,25 +124,21 @@ fn unknowns(
     }
     // Segment k depends on joint k's unknowns, α_k and joint k+1's unknowns: contiguous in this
     // order (empty for a segment that may not change).
-    let touches = |u: Unknown, k: usize| match u {
-        Unknown::X(j) | Unknown::Y(j) | Unknown::Angle(j) => j == k || j == k + 1,
-        Unknown::Alpha(m) => m == k,
-    };
-    let ranges = (0..segments)
-        .map(|k| {
-            let start = out.iter().position(|&u| touches(u, k));
-            let end = out.iter().rposition(|&u| touches(u, k));
-            match (start, end) {
-                (Some(a), Some(b)) => a..b + 1,
-                _ => 0..0,
-            }
-        })
-        .collect();
+    let mut ranges = vec![0..0; segments];
+    for (c, &u) in out.iter().enumerate() {
+        for k in touched(u, segments) {
+            let range = &mut ranges[k];
+            *range = if range.start == range.end {
+                c..c + 1
+            } else {
+                range.start..c + 1
+            };
+        }
+    }
     (out, ranges)
 }
 
 /// The segments an unknown moves.
-#[cfg(test)]
 fn touched(unknown: Unknown, segments: usize) -> std::ops::Range<usize> {
     match unknown {
         Unknown::X(j) | Unknown::Y(j) | Unknown::Angle(j) => {

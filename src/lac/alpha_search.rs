@@ -444,20 +444,24 @@ mod tests {
         (segment, samples)
     }
 
+    /// The segment's G1 data: its ends and unit tangents there.
+    fn g1(segment: &LacSegment) -> (Point, Vec2, Point, Vec2) {
+        let tangent = |theta: f64| Vec2::new(theta.cos(), theta.sin());
+        (
+            segment.start(),
+            tangent(segment.theta0()),
+            segment.end(),
+            tangent(segment.theta1()),
+        )
+    }
+
     fn search(
         segment: &LacSegment,
         samples: &[Point],
         options: &SpanFitOptions,
     ) -> Result<SpanFit, LacError> {
-        let tangent = |theta: f64| Vec2::new(theta.cos(), theta.sin());
-        fit_span(
-            segment.start(),
-            tangent(segment.theta0()),
-            segment.end(),
-            tangent(segment.theta1()),
-            samples,
-            options,
-        )
+        let (a, ta, b, tb) = g1(segment);
+        fit_span(a, ta, b, tb, samples, options)
     }
 
     #[test]
@@ -508,17 +512,15 @@ mod tests {
         let samples: Vec<Point> = (1..40)
             .map(|i| segment.point(segment.length() * i as f64 / 40.0))
             .collect();
-        let tangent = |theta: f64| Vec2::new(theta.cos(), theta.sin());
-        let (ta, tb) = (tangent(segment.theta0()), tangent(segment.theta1()));
-        assert!(fit_g1(segment.start(), ta, segment.end(), tb, -3.0).is_err());
+        let (a, ta, b, tb) = g1(&segment);
+        assert!(fit_g1(a, ta, b, tb, -3.0).is_err());
         // The seeding tolerance: the walk's points decide, as in a chain fit.
         let options = SpanFitOptions {
             guess: Some(-3.0),
             alpha_tolerance: SEED_ALPHA_TOLERANCE,
             ..SpanFitOptions::new(1e-6)
         };
-        let fit =
-            fit_span(segment.start(), ta, segment.end(), tb, &samples, &options).expect("fits");
+        let fit = search(&segment, &samples, &options).expect("fits");
         let found = fit.segment.alpha().expect("a spiral");
         assert!((found + 1.0).abs() < 0.05, "{found}");
         // Fewer than the 13 points of the grid the search used to fall back to: the guess, the
