@@ -27,6 +27,7 @@
 use super::band::{Band, BandCholesky};
 use super::state::{Evaluated, Joint, State, cost, model_at_feet};
 use crate::geom::Vec2;
+use crate::lac::sensitivity::{Sensitivity, sensitivities};
 use crate::lac::yoshida_saito::{edge_margins, mirror};
 
 /// Options of [`refine`].
@@ -349,12 +350,50 @@ fn jacobian(
                     Err(_) => vec![0.0; model.len()],
                 }
             };
-            let turned = |j: Joint| Joint {
-                angle: j.angle + ANGLE_STEP,
-                ..j
+            let alpha_column = column(Unknown::Alpha(k));
+            // The two angle columns and the α column: in one pass along the segment where its
+            // log-radius form applies, else by differences of probe constructions.
+            let (d_theta_a, d_theta_b, d_alpha) = match sensitivities(&e.segment, &e.feet) {
+                Some(d) => {
+                    let rows = |of: fn(&Sensitivity) -> Vec2| -> Vec<f64> {
+                        model
+                            .iter()
+                            .zip(&d)
+                            .map(|(m, d)| -of(d).dot(m.direction))
+                            .collect()
+                    };
+                    (
+                        rows(|d| d.start_angle),
+                        rows(|d| d.end_angle),
+                        rows(|d| d.alpha),
+                    )
+                }
+                None => {
+                    let turned = |j: Joint| Joint {
+                        angle: j.angle + ANGLE_STEP,
+                        ..j
+                    };
+                    let d_alpha = if alpha_column.is_some() {
+                        // A step that the range would clip is taken backwards instead.
+                        let (lo, hi) = options
+                            .alpha_range
+                            .unwrap_or((f64::NEG_INFINITY, f64::INFINITY));
+                        let h = if alpha + ALPHA_STEP <= hi || alpha - ALPHA_STEP < lo {
+                            ALPHA_STEP
+                        } else {
+                            -ALPHA_STEP
+                        };
+                        difference(a, b, alpha + h, h)
+                    } else {
+                        Vec::new()
+                    };
+                    (
+                        difference(turned(a), b, alpha, ANGLE_STEP),
+                        difference(a, turned(b), alpha, ANGLE_STEP),
+                        d_alpha,
+                    )
+                }
             };
-            let d_theta_a = difference(turned(a), b, alpha, ANGLE_STEP);
-            let d_theta_b = difference(a, turned(b), alpha, ANGLE_STEP);
             let mut put = |col: Option<usize>, values: &[f64]| {
                 if let Some(c) = col {
                     for (i, v) in values.iter().enumerate() {
@@ -364,18 +403,7 @@ fn jacobian(
             };
             put(column(Unknown::Angle(k)), &d_theta_a);
             put(column(Unknown::Angle(k + 1)), &d_theta_b);
-            if let Some(c) = column(Unknown::Alpha(k)) {
-                // A step that the range would clip is taken backwards instead.
-                let (lo, hi) = options
-                    .alpha_range
-                    .unwrap_or((f64::NEG_INFINITY, f64::INFINITY));
-                let h = if alpha + ALPHA_STEP <= hi || alpha - ALPHA_STEP < lo {
-                    ALPHA_STEP
-                } else {
-                    -ALPHA_STEP
-                };
-                put(Some(c), &difference(a, b, alpha + h, h));
-            }
+            put(alpha_column, &d_alpha);
             // Positions, from the similarity covariance (see the function doc).
             let length = a.p.distance(b.p);
             if length > 0.0 {

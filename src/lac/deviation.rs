@@ -13,12 +13,8 @@
 //! [`deviation`] then polishes them into exact foot-point distances.
 
 use super::segment::LacSegment;
-use super::special::{cis, cis_small, cmul};
+use super::special::{GAUSS_LEGENDRE_3, cis, cis_small, cmul};
 use crate::geom::{Point, Vec2};
-
-/// The 3-point Gauss–Legendre rule on [−1, 1]: weight of the middle node, weight of the outer
-/// nodes, and their abscissa ±√(3/5).
-const GAUSS_LEGENDRE_3: (f64, f64, f64) = (8.0 / 9.0, 5.0 / 9.0, 0.774_596_669_241_483_4);
 
 /// Most polyline vertices used for one segment. A span whose required spacing would need more
 /// (an extreme curvature ratio) is traced at the coarser spacing this allows; the chord error

@@ -16,6 +16,8 @@
 //! * [`yoshida_saito`]: the segment of a given α joining G1 end data ([`fit_g1`]).
 //! * [`alpha_search`]: the best α for a span (a walk from a guess or a grid, then Brent), [`fit_span`].
 //! * [`mod@biarc`]: two circular arcs joining G1 data, the fallback where no LAC can.
+//! * `sensitivity`: how a Yoshida–Saito segment's points move with its end tangents and α (the
+//!   chain refinement's Jacobian).
 //! * [`mod@deviation`]: distances from a span's samples to a segment.
 //! * [`minimize`]: Brent's scalar minimisation (the α search).
 //! * [`lcg`]: the logarithmic curvature graph of a segment or of a span of Béziers, and its
@@ -31,6 +33,7 @@ pub mod log_radius;
 pub mod minimize;
 pub mod quadrature;
 pub mod segment;
+pub(crate) mod sensitivity;
 mod special;
 pub mod standard;
 pub mod yoshida_saito;
