@@ -245,11 +245,17 @@ fn newton_foot(
     for _ in 0..FOOT_NEWTON_STEPS {
         let (sin, cos) = segment.theta(s).sin_cos();
         let r = p - q;
+        let along = r.dot(Vec2::new(cos, sin));
+        // At an end with the sample beyond it, the distance grows into the segment: the end is
+        // the (constrained) foot, whatever the curvature there.
+        if (s == length && along <= 0.0) || (s == 0.0 && along >= 0.0) {
+            return (s, p, true);
+        }
         let slope = 1.0 + segment.kappa(s) * r.dot(Vec2::new(-sin, cos));
         if !(slope > 0.0) {
             return (s, p, false);
         }
-        let next = (s - r.dot(Vec2::new(cos, sin)) / slope).clamp(0.0, length);
+        let next = (s - along / slope).clamp(0.0, length);
         if next == s {
             return (s, p, true);
         }
@@ -624,5 +630,22 @@ mod tests {
             assert_eq!(*side, offset.signum());
             assert!((d.feet[i] - 50.0 * (i + 1) as f64 / 40.0).abs() < 1e-7);
         }
+    }
+
+    #[test]
+    fn a_sample_beyond_a_tightly_curling_end_has_its_foot_at_the_end() {
+        // Curvature 2 at the end, the sample past the end and past its centre of curvature:
+        // Newton's slope 1 + κ(P − q)·N is negative there, yet the end is the foot.
+        let seg =
+            LacSegment::new(Point::new(0.0, 0.0), 0.0, 6.0, Some(0.5), 0.1, 2.0).expect("segment");
+        let (end, theta) = (seg.end(), seg.theta1());
+        let (tangent, normal) = (
+            Vec2::new(theta.cos(), theta.sin()),
+            Vec2::new(-theta.sin(), theta.cos()),
+        );
+        let q = end + tangent * 0.2 + normal * 1.0;
+        let d = deviation_near(&seg, &[q], &[seg.length()]).expect("settles at the end");
+        assert_eq!(d.feet, vec![seg.length()]);
+        assert!((d.distances[0] - q.distance(end)).abs() < 1e-12);
     }
 }
