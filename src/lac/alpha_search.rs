@@ -10,12 +10,21 @@
 //! follows). This replaces the seed paper's choice among a few fixed α values.
 //!
 //! With a starting guess (the slope of the span's logarithmic curvature graph, or the α of the
-//! segment a span was cut from or merged out of: [`fit_span`]'s `guess`) the grid is replaced by a
-//! walk: cells of [`GRID_STEP`] are stepped downhill from the guess until the objective rises,
-//! and Brent takes the two cells around the lowest point. A good guess costs three evaluations
-//! instead of the grid's thirteen. A guess that cannot join the data steps towards α = 0.5 until
-//! one can (`FEASIBLE_TOWARDS`) and the walk starts there; a walk that finds nothing finite
-//! falls back to the grid.
+//! segment a span was cut from or merged out of: [`fit_span`]'s `guess`) the grid is replaced by
+//! Gauss–Newton steps on α: the derivative of every sample distance in α comes from one pass
+//! along the segment (`sensitivity`), so a step costs one evaluation and the search ends where
+//! the step falls below the tolerance or the model sees the objective flat (`gauss_newton`).
+//! Where the derivatives are not available (arcs, κ = 0 ends) or no step helps, a walk takes over:
+//! cells of [`GRID_STEP`] are stepped downhill from the guess until the objective rises, and
+//! Brent takes the two cells around the lowest point. A guess that cannot join the data steps
+//! towards α = 0.5 until one can (`FEASIBLE_TOWARDS`) and the search starts there; a walk that
+//! finds nothing finite falls back to the grid.
+//!
+//! Over the fixture strokes up to 600 samples at three tolerances, Gauss–Newton instead of the
+//! walk and Brent: 6.4 evaluations per search against 7.6, 6 % fewer instructions in all
+//! (3.82e9 against 4.06e9) and 11 % fewer on the median stroke (9.97 M against 11.19 M), for as
+//! many segments (2 201 against 2 221) and the same rms distance (0.218 of the tolerance against
+//! 0.216).
 
 use serde::{Deserialize, Serialize};
 
@@ -23,6 +32,7 @@ use super::deviation::{Deviation, deviation, marched, rough_deviation};
 use super::error::LacError;
 use super::minimize::{brent, brent_from};
 use super::segment::LacSegment;
+use super::sensitivity::sensitivities;
 use super::yoshida_saito::{fit_g1, fit_g1_near};
 use crate::geom::{Point, Vec2};
 
@@ -258,10 +268,10 @@ pub fn fit_span(
     }
 
     let mut grid = Vec::new();
-    // Where the walk starts: the guess, or, where the guess cannot join the data, the first α
+    // Where the search starts: the guess, or, where the guess cannot join the data, the first α
     // that can on the way from it towards the middle of [0, 1] (see [`FEASIBLE_TOWARDS`]).
-    let mut start = guess.zip(first.as_ref().map(|(_, d)| d.rms));
-    if let (Some(g), None) = (guess, &first) {
+    let mut start = guess.zip(first);
+    if let (Some(g), None) = (guess, &start) {
         let towards = FEASIBLE_TOWARDS.clamp(min, max);
         let mut alpha = g;
         while alpha != towards {
@@ -270,67 +280,82 @@ pub fn fit_span(
             } else {
                 (alpha - GRID_STEP).max(towards)
             };
-            if let Some((_, d)) = evaluate(alpha) {
-                start = Some((alpha, d.rms));
+            if let Some(found) = evaluate(alpha) {
+                start = Some((alpha, found));
                 break;
             }
         }
     }
-    // The bracket [lo, hi] around the best point found, by a walk from the start or the grid.
-    let walked = match start {
-        Some((g, rms)) => walk(g, rms, min, max, &mut grid, |alpha| {
-            evaluate(alpha).map(|(_, d)| d.rms)
-        }),
-        None => None,
-    };
-    let (lo, hi, best_alpha) = match walked {
-        Some(bracket) => bracket,
-        None => {
-            grid.clear();
-            let cells = (((max - min) / GRID_STEP).ceil() as usize).max(1);
-            let grid_alpha = |i: usize| min + (max - min) * i as f64 / cells as f64;
-            let mut best: Option<(usize, f64)> = None;
-            for i in 0..=cells {
-                let alpha = grid_alpha(i);
-                if let Some((_, d)) = evaluate(alpha) {
-                    grid.push([alpha, d.rms]);
-                    if best.is_none_or(|(_, r)| d.rms < r) {
-                        best = Some((i, d.rms));
+    // Gauss–Newton steps from there (see [`gauss_newton`]); the walk and Brent where they
+    // cannot go on, the grid without a start.
+    let newton = start.as_ref().and_then(|(alpha, (segment, d))| {
+        gauss_newton(
+            (*alpha, *segment, d.clone()),
+            (min, max),
+            alpha_tolerance,
+            &mut grid,
+            &mut evaluate,
+        )
+    });
+    let alpha = if let Some(alpha) = newton {
+        alpha
+    } else {
+        // The bracket [lo, hi] around the best point found, by a walk from the start or the grid.
+        let walked = match start {
+            Some((g, (_, d))) => walk(g, d.rms, min, max, &mut grid, |alpha| {
+                evaluate(alpha).map(|(_, d)| d.rms)
+            }),
+            None => None,
+        };
+        let (lo, hi, best_alpha) = match walked {
+            Some(bracket) => bracket,
+            None => {
+                grid.clear();
+                let cells = (((max - min) / GRID_STEP).ceil() as usize).max(1);
+                let grid_alpha = |i: usize| min + (max - min) * i as f64 / cells as f64;
+                let mut best: Option<(usize, f64)> = None;
+                for i in 0..=cells {
+                    let alpha = grid_alpha(i);
+                    if let Some((_, d)) = evaluate(alpha) {
+                        grid.push([alpha, d.rms]);
+                        if best.is_none_or(|(_, r)| d.rms < r) {
+                            best = Some((i, d.rms));
+                        }
                     }
                 }
+                let Some((k, _)) = best else {
+                    return Err(LacError::NoAlphaInRange { min, max });
+                };
+                (
+                    grid_alpha(k.saturating_sub(1)),
+                    grid_alpha((k + 1).min(cells)),
+                    grid_alpha(k),
+                )
             }
-            let Some((k, _)) = best else {
-                return Err(LacError::NoAlphaInRange { min, max });
-            };
-            (
-                grid_alpha(k.saturating_sub(1)),
-                grid_alpha((k + 1).min(cells)),
-                grid_alpha(k),
-            )
-        }
-    };
+        };
 
-    // Brent on the cells around the best point, started from the points the walk or the grid
-    // already evaluated there (their parabola gives the first step).
-    let value_at = |alpha: f64| grid.iter().find(|p| p[0] == alpha).map(|p| (alpha, p[1]));
-    let best = value_at(best_alpha);
-    let known: Vec<(f64, f64)> = [lo, hi].into_iter().filter_map(value_at).collect();
-    let objective = |alpha: f64| evaluate(alpha).map_or(f64::INFINITY, |(_, d)| d.rms);
-    let minimum = match best {
-        Some(best) => brent_from(
-            objective,
-            (lo, hi),
-            best,
-            &known,
-            alpha_tolerance,
-            MAX_BRENT_EVALUATIONS,
-        ),
-        None => brent(objective, lo, hi, alpha_tolerance, MAX_BRENT_EVALUATIONS),
-    };
-    let alpha = if minimum.value.is_finite() {
-        minimum.x
-    } else {
-        best_alpha
+        // Brent on the cells around the best point, started from the points the walk or the grid
+        // already evaluated there (their parabola gives the first step).
+        let value_at = |alpha: f64| grid.iter().find(|p| p[0] == alpha).map(|p| (alpha, p[1]));
+        let best = value_at(best_alpha);
+        let known: Vec<(f64, f64)> = [lo, hi].into_iter().filter_map(value_at).collect();
+        let objective = |alpha: f64| evaluate(alpha).map_or(f64::INFINITY, |(_, d)| d.rms);
+        let minimum = match best {
+            Some(best) => brent_from(
+                objective,
+                (lo, hi),
+                best,
+                &known,
+                alpha_tolerance,
+                MAX_BRENT_EVALUATIONS,
+            ),
+            None => brent(objective, lo, hi, alpha_tolerance, MAX_BRENT_EVALUATIONS),
+        };
+        if minimum.value.is_finite() {
+            minimum.x
+        } else {
+            best_alpha
+        }
     };
     let (segment, known) = match best_seen {
         Some((seen, segment, _, known)) if seen == alpha => (segment, known),
@@ -430,6 +455,99 @@ pub fn within(segment: &LacSegment, max_curvature: f64) -> bool {
     segment.kappa0().abs().max(segment.kappa1().abs()) <= max_curvature
 }
 
+/// Most Gauss–Newton steps of [`gauss_newton`]: from a guess within a cell of the minimum it
+/// converges in two or three.
+const MAX_NEWTON_STEPS: usize = 8;
+
+/// Halvings of a Gauss–Newton step that does not lower the objective before the search hands
+/// over to the walk.
+const MAX_STEP_HALVINGS: usize = 3;
+
+/// A Gauss–Newton step whose model predicts a smaller relative decrease of the sum of squared
+/// distances than this ends the search: 1e-3 moves the rms distance by 0.05 %, and an objective
+/// that flat in α (a nearly straight span, or data that barely see α) would otherwise be walked
+/// along a whole cell per evaluation for nothing.
+const FLAT_GAIN: f64 = 1e-3;
+
+/// Gauss–Newton on α from `start` (α, segment, distances), within `range`: each step is
+/// −Σ rᵢ·r′ᵢ / Σ r′ᵢ² with rᵢ the signed sample distances and r′ᵢ their derivatives in α at
+/// fixed end data (one pass along the segment, [`sensitivities`]), at most a trust length long
+/// (a grid cell at first, doubled after a step that helped, halved after one that did not).
+/// Stops with the current α once a step is below `tolerance` or the model predicts less than
+/// [`FLAT_GAIN`]; `None` (the walk and Brent take over from the evaluations made) where the
+/// derivatives are not available or no step helps. From a guess within a cell of the minimum:
+/// two or three evaluations instead of the walk's three or four and Brent's.
+fn gauss_newton(
+    start: (f64, LacSegment, Deviation),
+    (min, max): (f64, f64),
+    tolerance: f64,
+    grid: &mut Vec<[f64; 2]>,
+    evaluate: &mut impl FnMut(f64) -> Option<(LacSegment, Deviation)>,
+) -> Option<f64> {
+    let (mut alpha, mut segment, mut d) = start;
+    grid.push([alpha, d.rms]);
+    let mut trust = GRID_STEP;
+    for _ in 0..MAX_NEWTON_STEPS {
+        let (gradient, curvature) = newton_model(&segment, &d)?;
+        if !(curvature > 0.0) {
+            return None;
+        }
+        let step = (-gradient / curvature).clamp(-trust, trust);
+        // The model's decrease of Σr² over the step, against Σr².
+        let gain = -(2.0 * gradient * step + curvature * step * step);
+        let squares = d.rms * d.rms * d.distances.len() as f64;
+        if gain <= FLAT_GAIN * squares {
+            return Some(alpha);
+        }
+        let mut trial = (alpha + step).clamp(min, max);
+        let mut improved = false;
+        for _ in 0..=MAX_STEP_HALVINGS {
+            if (trial - alpha).abs() <= tolerance {
+                return Some(alpha);
+            }
+            if let Some((s, e)) = evaluate(trial) {
+                grid.push([trial, e.rms]);
+                if e.rms < d.rms {
+                    let full = (trial - alpha).abs() >= trust;
+                    (alpha, segment, d) = (trial, s, e);
+                    if full {
+                        trust *= 2.0;
+                    }
+                    improved = true;
+                    break;
+                }
+            }
+            trial = alpha + 0.5 * (trial - alpha);
+            trust *= 0.5;
+        }
+        if !improved {
+            return None;
+        }
+    }
+    Some(alpha)
+}
+
+/// The Gauss–Newton model in α of the sum of squared signed sample distances `d` to `segment`:
+/// (Σ rᵢ·r′ᵢ, Σ r′ᵢ²); `None` where the derivatives are not available.
+fn newton_model(segment: &LacSegment, d: &Deviation) -> Option<(f64, f64)> {
+    let derivatives = sensitivities(segment, &d.feet)?;
+    let (mut gradient, mut curvature) = (0.0, 0.0);
+    for (((&foot, &distance), &side), derivative) in d
+        .feet
+        .iter()
+        .zip(&d.distances)
+        .zip(&d.sides)
+        .zip(&derivatives)
+    {
+        let theta = segment.theta(foot);
+        // r = (q − P)·N at an interior foot, so r′ = −P′·N (zero at an end: P′ = 0 there).
+        let slope = -derivative.alpha.dot(Vec2::new(-theta.sin(), theta.cos()));
+        gradient += side * distance * slope;
+        curvature += slope * slope;
+    }
+    Some((gradient, curvature))
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -480,6 +598,31 @@ mod tests {
                     "α {alpha}, guess {guess:?}: {found}"
                 );
                 assert!(fit.deviation.max < 1e-3, "{}", fit.deviation.max);
+            }
+        }
+    }
+
+    #[test]
+    fn gauss_newton_from_a_guess_within_a_cell_takes_few_evaluations() {
+        for alpha in [-1.5, -1.0, 0.0, 0.5, 1.5, 2.0] {
+            let (segment, samples) = planted(alpha);
+            for offset in [-0.45, 0.3] {
+                let options = SpanFitOptions {
+                    guess: Some(alpha + offset),
+                    ..SpanFitOptions::new(1e-6)
+                };
+                let fit = search(&segment, &samples, &options).expect("fits");
+                let found = fit.segment.alpha().expect("a spiral");
+                assert!(
+                    (found - alpha).abs() < ALPHA_TOLERANCE,
+                    "α {alpha}, guess {offset:+}: {found}"
+                );
+                // The walk and Brent need several more from such a guess (13 for the first).
+                assert!(
+                    fit.search.evaluations <= 4,
+                    "α {alpha}, guess {offset:+}: {} evaluations",
+                    fit.search.evaluations
+                );
             }
         }
     }
