@@ -92,6 +92,38 @@ fn tolerance_holds_and_fewer_segments_would_not() {
 }
 
 #[test]
+fn the_faired_curve_spends_the_tolerance() {
+    // The fairest curve within the tolerance touches it: the search stops within a percent of
+    // the boundary. (Unless even the strongest weight of the search's range keeps the curve
+    // inside, as it does for the S-curve from 0.05 on: the curve is then as fair as the range
+    // allows.)
+    for (stroke, tol) in [
+        (sample_curve(s_curve, -48.0, 48.0, 400, 0.01, 7), 0.02),
+        (sample_curve(s_curve, -48.0, 48.0, 400, 0.01, 7), 0.03),
+        (sample_curve(ellipse, 0.0, 5.0, 300, 0.02, 3), 0.05),
+        (sample_curve(ellipse, 0.0, 5.0, 300, 0.02, 3), 0.1),
+    ] {
+        let pts = stroke.points();
+        let fair = fit_bspline(&pts, &FitOptions::new(tol)).expect("fit");
+        assert!(fair.fairing > 0.0, "tol {tol}: not faired");
+        assert!(
+            (0.99 * tol..=tol).contains(&fair.max_deviation),
+            "tol {tol}: largest distance {}",
+            fair.max_deviation
+        );
+        // Against the unfaired curve with as many segments: fairer, so farther from the data.
+        let plain = fit_bspline(
+            &pts,
+            &FitOptions::new(tol)
+                .with_fairing(false)
+                .with_max_segments(fair.curve.segment_count()),
+        )
+        .expect("fit");
+        assert!(plain.max_deviation < fair.max_deviation);
+    }
+}
+
+#[test]
 fn short_strokes_become_lines() {
     let pts = [
         Point::new(0.0, 0.0),

@@ -81,9 +81,22 @@ const FAIRING_RELATIVE_RANGE: (f64, f64) = (1e-6, 1e4);
 /// every correction made, for 2 % fewer instructions.
 const HOPELESS_FACTOR: f64 = 3.0;
 
-/// Bisection steps on log λ: 8 halvings of 10 decades leave a factor of 1.09 in λ, which moves the
-/// curve by a small fraction of the tolerance (the fit's sensitivity to λ is logarithmic).
+/// Most penalised solves of the fairing search. Bisection on log λ needed 8 (10 decades to a
+/// factor of 1.09); regula falsi (see `fair`) usually reaches [`FAIR_ENOUGH`] in 3 to 5.
 const FAIRING_STEPS: usize = 8;
+
+/// The fairing search stops at a weight whose curve passes with its largest distance at least
+/// this fraction of the tolerance: the largest distance grows smoothly and monotonically with λ,
+/// so the weight is then within a few percent of the boundary and the curve within a percent of
+/// the tolerance of the fairest one. Over the fixture strokes up to 600 samples at five
+/// tolerances (0.8–1.25 of the default), against 8 bisection steps: 2.7 fewer solves per fit
+/// (11.0 against 13.7 in all), 2 % fewer instructions, 3 661 segments against 3 656 and the
+/// same rms distance (0.95 gave 1 % more segments and a 5 % higher rms distance).
+const FAIR_ENOUGH: f64 = 0.99;
+
+/// The fairing search also stops once its bracket on ln λ is this narrow (a factor of 1.09, what
+/// 8 bisection steps over 10 decades left).
+const FAIRING_BRACKET: f64 = 0.09;
 
 impl FitOptions {
     /// Options with this tolerance and every other field at its default.
@@ -315,10 +328,15 @@ fn fit_unit(points: &[Point], options: &FitOptions) -> Result<BSplineFit, FitErr
 /// The fairest fit with `segments` segments that stays within the tolerance.
 ///
 /// The plain least-squares fit with `segments` segments (parameter-corrected) fixes the knots and
-/// the sample parameters; then bisection on log λ over [`FAIRING_RELATIVE_RANGE`] × λ_ref finds
+/// the sample parameters; then a search on log λ over [`FAIRING_RELATIVE_RANGE`] × λ_ref finds
 /// the largest fairing weight whose penalised solve keeps every sample's local foot-point
 /// distance within the tolerance. With parameters and knots held, each trial is one linear
-/// solve, so the search is well posed. `fallback` (the passing fit with the fewest segments) is
+/// solve, so the search is well posed. The largest distance d(λ) grows smoothly with λ, and
+/// ln(d/tol) is close to linear in ln λ near the boundary: after the range's middle (and its top,
+/// when the middle passes), regula falsi with the Illinois modification on ln(d/tol) against
+/// ln λ, from the passing and failing weights found, until a passing curve reaches
+/// [`FAIR_ENOUGH`] of the tolerance or the bracket is [`FAIRING_BRACKET`] narrow. The plain fit
+/// stands in for the range's bottom. `fallback` (the passing fit with the fewest segments) is
 /// kept when no penalised fit passes: more segments without fairing would only add wobbles.
 fn fair(
     points: &[Point],
@@ -328,7 +346,7 @@ fn fair(
     options: &FitOptions,
     fallback: BSplineFit,
 ) -> Result<BSplineFit, FitError> {
-    let attempts = fallback.attempts + 1 + FAIRING_STEPS;
+    let mut attempts = fallback.attempts + 1;
     let plain = fit_segments(points, weights, chord, segments, options)?;
     let jumps = jump_energy(&plain.curve);
     if !(plain.within_tolerance && jumps > 0.0 && jumps.is_finite()) {
@@ -341,38 +359,88 @@ fn fair(
     let ends = (options.start, options.end);
     let params = plain.params.clone();
     let m = points.len() as f64;
+    let tolerance = options.tolerance;
     // Data term: Σ wᵢ‖rᵢ‖² with mean weight 1, so its budget is m·tol²; the penalty of the
     // unpenalised curve at weight λ·m is λ·m·J₀. They balance at λ_ref = tol²/J₀.
-    let reference = options.tolerance * options.tolerance / jumps;
-    let (mut lo, mut hi) = (
+    let reference = tolerance * tolerance / jumps;
+    let range = (
         (reference * FAIRING_RELATIVE_RANGE.0).ln(),
         (reference * FAIRING_RELATIVE_RANGE.1).ln(),
     );
-    let mut best: Option<BSplineFit> = None;
-    for _ in 0..FAIRING_STEPS {
-        let mid = 0.5 * (lo + hi);
-        // A trial whose solve fails (not expected: fairness rows only add rank) counts as a
-        // failing weight, never as a failed fit: the fallback always exists.
-        let Ok(curve) =
-            penalised_least_squares(points, &params, weights, knots.clone(), mid.exp() * m, ends)
-        else {
-            hi = mid;
-            continue;
-        };
+    // The penalised fit at ln λ = t; a solve that fails (not expected: fairness rows only add
+    // rank) counts as a failing weight, never as a failed fit: the fallback always exists.
+    let mut trial = |t: f64| -> Option<BSplineFit> {
+        attempts += 1;
+        let curve =
+            penalised_least_squares(points, &params, weights, knots.clone(), t.exp() * m, ends)
+                .ok()?;
         let pieces = Pieces::new(curve.to_beziers());
         let feet: Vec<Foot> = points
             .iter()
             .zip(&params)
             .map(|(q, &u)| pieces.project_local(*q, u))
             .collect();
-        let mut fit = summarise(curve, &feet, options.tolerance);
-        fit.fairing = mid.exp();
-        if fit.within_tolerance {
-            best = Some(fit);
-            lo = mid;
+        let mut fit = summarise(curve, &feet, tolerance);
+        fit.fairing = t.exp();
+        Some(fit)
+    };
+    // ln(d/tol) of a trial: ≤ 0 passes.
+    let excess = |fit: &Option<BSplineFit>| {
+        fit.as_ref()
+            .map_or(f64::INFINITY, |f| (f.max_deviation / tolerance).ln())
+    };
+    // The bracket: (ln λ, ln(d/tol)) passing at `low`, failing at `high`.
+    let mut low = (range.0, (plain.max_deviation / tolerance).ln());
+    let mut high: Option<(f64, f64)> = None;
+    let mut best: Option<BSplineFit> = None;
+    let mut next = 0.5 * (range.0 + range.1);
+    // Which end the last trial replaced (−1 low, +1 high): replaced twice in a row, the other
+    // end's value is halved (Illinois).
+    let mut replaced = 0i8;
+    for step in 0..FAIRING_STEPS {
+        let fit = trial(next);
+        let e = excess(&fit);
+        if e <= 0.0 {
+            low = (next, e);
+            let close = fit
+                .as_ref()
+                .is_some_and(|f| f.max_deviation >= FAIR_ENOUGH * tolerance);
+            best = fit;
+            if close {
+                break;
+            }
+            if replaced == -1
+                && let Some(h) = high.as_mut()
+            {
+                h.1 *= 0.5;
+            }
+            replaced = -1;
         } else {
-            hi = mid;
+            high = Some((next, if e.is_finite() { e } else { f64::MAX }));
+            if replaced == 1 {
+                low.1 *= 0.5;
+            }
+            replaced = 1;
         }
+        next = match high {
+            // The middle passed: try the top of the range first.
+            None if step == 0 => range.1,
+            None => break,
+            Some(h) => {
+                if h.0 - low.0 <= FAIRING_BRACKET {
+                    break;
+                }
+                // Regula falsi, kept off the bracket's ends (a tenth of it) so that a curved
+                // excess cannot stall it at one end.
+                let t = if h.1 < f64::MAX && h.1 > low.1 {
+                    low.0 + (h.0 - low.0) * (-low.1 / (h.1 - low.1))
+                } else {
+                    0.5 * (low.0 + h.0)
+                };
+                let margin = 0.1 * (h.0 - low.0);
+                t.clamp(low.0 + margin, h.0 - margin)
+            }
+        };
     }
     let mut out = best.unwrap_or(fallback);
     out.attempts = attempts;

@@ -148,13 +148,24 @@ fn curvature_and_derivative(piece: &ParamBez, t: f64) -> Option<(f64, f64)> {
 /// Points where κ = 0 or κ′ = 0 (a logarithm undefined), or where a piece has no tangent, are
 /// skipped; so are all points of a span of zero length.
 pub fn lcg_of_bezier_span(pieces: &[ParamBez], count: usize) -> Vec<LcgPoint> {
+    lcg_of_bezier_span_within(pieces, count, ARCLEN_RELATIVE_ACCURACY)
+}
+
+/// [`lcg_of_bezier_span`] with arc lengths (and the points' positions along them) accurate to
+/// `relative_accuracy` of each piece's control polygon: a caller that only wants the graph's
+/// slope (a starting guess) need not pay for [`ARCLEN_RELATIVE_ACCURACY`].
+pub(crate) fn lcg_of_bezier_span_within(
+    pieces: &[ParamBez],
+    count: usize,
+    relative_accuracy: f64,
+) -> Vec<LcgPoint> {
     // Arc length of each piece and the cumulative length at its start.
     let lengths: Vec<(f64, f64)> = pieces
         .iter()
         .map(|p| {
             let b = p.bez;
             let polygon = (b.p1 - b.p0).hypot() + (b.p2 - b.p1).hypot() + (b.p3 - b.p2).hypot();
-            let accuracy = ARCLEN_RELATIVE_ACCURACY * polygon;
+            let accuracy = relative_accuracy * polygon;
             (b.arclen(accuracy), accuracy)
         })
         .collect();

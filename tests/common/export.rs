@@ -352,7 +352,8 @@ pub fn project(segment: &LacSegment, grid: &[(f64, Point)], q: Point) -> (f64, f
 
 /// The projection grid of `segment` (arc length and point): steps of at most 1/400 of the
 /// length and a fifth of the radius of curvature anywhere within the step (|κ| is monotonic
-/// along an LAC, so its largest value on a step is at one of the step's ends).
+/// along an LAC, so its largest value on a step is at one of the step's ends); the last step may
+/// be a quarter longer rather than leave a sliver.
 pub fn grid_of(segment: &LacSegment) -> Vec<(f64, Point)> {
     const TURN: f64 = 0.2;
     let length = segment.length();
@@ -365,6 +366,11 @@ pub fn grid_of(segment: &LacSegment) -> Vec<(f64, Point)> {
         // Shrink until the far end's curvature allows the step too.
         while limit(s + h) < h {
             h *= 0.5;
+        }
+        // Land on the end rather than leave a sliver: the bracket `project` searches around the
+        // end point would be the sliver, and miss a foot just before it.
+        if length - (s + h) < 0.25 * h {
+            break;
         }
         s += h;
     }
