@@ -47,8 +47,9 @@ pub struct Deviation {
 /// is below [`FOOT_STEP_TOLERANCE`].
 const FOOT_NEWTON_STEPS: usize = 8;
 
-/// A Newton step on the foot shorter than this fraction of the segment's length ends the polish:
-/// the next would be below rounding (quadratic convergence squares it).
+/// A Newton step on the foot shorter than this fraction of the segment's length ends the polish
+/// without being taken (see [`newton_foot`]): the next would be below rounding (quadratic
+/// convergence squares it).
 const FOOT_STEP_TOLERANCE: f64 = 1e-9;
 
 /// The polyline that seeds [`deviation`]'s Newton polish is traced at this multiple of the
@@ -126,19 +127,19 @@ pub(crate) fn deviation_near(
         ..Deviation::default()
     };
     for ((q, &seed), start) in samples.iter().zip(seeds).zip(starts) {
-        let (s, p, settled) = newton_foot(
+        let foot = newton_foot(
             segment,
             *q,
             seed.clamp(0.0, length),
             start,
             |from, to, p| p + integrate(segment, from, to),
         );
-        if !settled {
+        if !foot.settled {
             return None;
         }
-        d.distances.push(q.distance(p));
-        d.feet.push(s);
-        d.sides.push(side(segment, s, *q, p));
+        d.distances.push(q.distance(foot.p));
+        d.feet.push(foot.s);
+        d.sides.push(foot.side(segment, *q));
     }
     Some(summarise(d))
 }
@@ -169,16 +170,16 @@ pub(crate) fn marched(segment: &LacSegment, samples: &[Point]) -> Option<Deviati
             }
         };
         p = move_along(segment, s, seed, p);
-        let (foot, at, settled) = newton_foot(segment, *q, seed, p, |from, to, p| {
+        let foot = newton_foot(segment, *q, seed, p, |from, to, p| {
             move_along(segment, from, to, p)
         });
-        if !settled || foot < s {
+        if !foot.settled || foot.s < s {
             return None;
         }
-        d.distances.push(q.distance(at));
-        d.feet.push(foot);
-        d.sides.push(side(segment, foot, *q, at));
-        (s, p) = (foot, at);
+        d.distances.push(q.distance(foot.p));
+        d.feet.push(foot.s);
+        d.sides.push(foot.side(segment, *q));
+        (s, p) = (foot.s, foot.p);
         previous = Some(*q);
     }
     Some(summarise(d))
@@ -215,58 +216,93 @@ fn polish_feet(
         let start = point_near(segment, polyline, d.feet[i]);
         // Unsettled (a non-positive slope, or the step budget spent): the distance check below
         // decides whether the last iterate is kept.
-        let (s, p, _) = newton_foot(segment, *q, d.feet[i], start, |_, to, _| {
+        let foot = newton_foot(segment, *q, d.feet[i], start, |_, to, _| {
             point_near(segment, polyline, to)
         });
-        let distance = q.distance(p);
+        let distance = q.distance(foot.p);
         // The exact distance differs from the polyline's by at most the chord error (the chords
         // cut inside the curve); anything farther means Newton wandered to another foot, and the
         // polyline's answer is kept.
         if distance <= d.distances[i] + chord_error {
             d.distances[i] = distance;
-            d.feet[i] = s;
-            d.sides[i] = side(segment, s, *q, p);
+            d.feet[i] = foot.s;
+            d.sides[i] = foot.side(segment, *q);
         }
     }
 }
 
+/// Where [`newton_foot`] ended.
+struct FootFound {
+    /// Arc length of the foot.
+    s: f64,
+    /// The segment's point there.
+    p: Point,
+    /// Whether it settled (see [`newton_foot`]).
+    settled: bool,
+    /// The sample's side there (see [`side`]), when the iteration knew the normal at `s`.
+    side: Option<f64>,
+}
+
+impl FootFound {
+    /// The side of `q`, from the iteration or computed afresh.
+    fn side(&self, segment: &LacSegment, q: Point) -> f64 {
+        self.side
+            .unwrap_or_else(|| side(segment, self.s, q, self.p))
+    }
+}
+
 /// Newton's method on the foot-point equation (P(s) − q)·T(s) = 0 from arc length `s` with point
-/// `p`, the next point found by `move_to(from, to, p)`: the foot's arc length and point, and
-/// whether it settled (a step below [`FOOT_STEP_TOLERANCE`] of the length, or none) rather than
-/// stopping at a non-positive slope or after [`FOOT_NEWTON_STEPS`].
+/// `p`, the next point found by `move_to(from, to, p)`: the foot, and whether it settled (a step
+/// below [`FOOT_STEP_TOLERANCE`] of the length, or none, or an end with the sample beyond it)
+/// rather than stopping at a non-positive slope or after [`FOOT_NEWTON_STEPS`]. A step below the
+/// tolerance is not taken: the iterate is then within about that step of the foot, and its
+/// distance to the sample exceeds the true one by a second-order amount (about
+/// step²/(2·distance): 5e-16 of the length for a sample a thousandth of the length away);
+/// moving there would cost an integration for nothing. Over the fixture strokes up to 600
+/// samples at three tolerances, with θ and κ from one evaluation and the side from the last
+/// normal: 6 % fewer instructions on the median stroke.
 fn newton_foot(
     segment: &LacSegment,
     q: Point,
     mut s: f64,
     mut p: Point,
     mut move_to: impl FnMut(f64, f64, Point) -> Point,
-) -> (f64, Point, bool) {
+) -> FootFound {
     let length = segment.length();
     for _ in 0..FOOT_NEWTON_STEPS {
-        let (sin, cos) = segment.theta(s).sin_cos();
+        let (theta, kappa) = segment.theta_kappa(s);
+        let (sin, cos) = theta.sin_cos();
         let r = p - q;
         let along = r.dot(Vec2::new(cos, sin));
+        let across = r.dot(Vec2::new(-sin, cos));
+        let found = |settled: bool| FootFound {
+            s,
+            p,
+            settled,
+            side: Some((-across).signum()),
+        };
         // At an end with the sample beyond it, the distance grows into the segment: the end is
         // the (constrained) foot, whatever the curvature there.
         if (s == length && along <= 0.0) || (s == 0.0 && along >= 0.0) {
-            return (s, p, true);
+            return found(true);
         }
-        let slope = 1.0 + segment.kappa(s) * r.dot(Vec2::new(-sin, cos));
+        let slope = 1.0 + kappa * across;
         if !(slope > 0.0) {
-            return (s, p, false);
+            return found(false);
         }
         let next = (s - along / slope).clamp(0.0, length);
-        if next == s {
-            return (s, p, true);
+        if (next - s).abs() <= FOOT_STEP_TOLERANCE * length {
+            return found(true);
         }
-        let small = (next - s).abs() <= FOOT_STEP_TOLERANCE * length;
         p = move_to(s, next, p);
         s = next;
-        if small {
-            return (s, p, true);
-        }
     }
-    (s, p, false)
+    FootFound {
+        s,
+        p,
+        settled: false,
+        side: None,
+    }
 }
 
 /// The side of `q` relative to the segment at its foot `p` (arc length `s`): +1 left of the

@@ -129,6 +129,17 @@ impl Spiral {
     fn kappa(&self, t: f64) -> f64 {
         self.sigma * self.std.kappa(self.u(t)) / self.scale
     }
+
+    /// Turning θ(t) − θ0 and signed curvature at t, from one standard-form evaluation.
+    fn turning_kappa(&self, t: f64) -> (f64, f64) {
+        let (theta, kappa) = self.std.theta_kappa(self.u(t));
+        let turning = if self.curling {
+            self.sigma * (self.theta_std_end - theta)
+        } else {
+            self.sigma * theta
+        };
+        (turning, self.sigma * kappa / self.scale)
+    }
 }
 
 /// A log-aesthetic curve segment in its canonical record form (see the module documentation).
@@ -478,6 +489,19 @@ impl LacSegment {
         }
     }
 
+    /// Tangent angle and signed curvature at arc length `s` (clamped to [0, S]): what
+    /// [`LacSegment::theta`] and [`LacSegment::kappa`] give, for about the cost of one of them.
+    pub(crate) fn theta_kappa(&self, s: f64) -> (f64, f64) {
+        let t = self.fraction(s);
+        match self.shape {
+            Shape::Spiral(sp) if t > 0.0 && t < 1.0 => {
+                let (turning, kappa) = sp.turning_kappa(t);
+                (self.theta0 + turning, kappa)
+            }
+            _ => (self.theta(s), self.kappa(s)),
+        }
+    }
+
     /// Point, tangent angle and curvature at arc length `s` (clamped to [0, S]).
     pub fn sample(&self, s: f64) -> LacSample {
         let s = s.clamp(0.0, self.length);
@@ -554,3 +578,31 @@ impl Iterator for LacSamples<'_> {
 }
 
 impl ExactSizeIterator for LacSamples<'_> {}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn theta_kappa_is_theta_and_kappa() {
+        for (alpha, k0, k1) in [
+            (Some(-1.0), 0.0, 0.05),
+            (Some(-2.5), 0.08, 0.01),
+            (Some(0.0), -0.02, -0.09),
+            (Some(1.0), 0.3, 0.01),
+            (Some(2.0), -0.01, -0.2),
+            (Some(0.7), 0.04, 0.04 * 1.000_001),
+            (None, 0.05, 0.05),
+            (None, 0.0, 0.0),
+        ] {
+            let segment =
+                LacSegment::new(Point::new(1.0, -2.0), 0.3, 30.0, alpha, k0, k1).expect("segment");
+            for i in 0..=20 {
+                let s = segment.length() * i as f64 / 20.0;
+                let (theta, kappa) = segment.theta_kappa(s);
+                assert!((theta - segment.theta(s)).abs() <= 1e-15 * (1.0 + theta.abs()));
+                assert!((kappa - segment.kappa(s)).abs() <= 1e-15 * kappa.abs().max(1e-300));
+            }
+        }
+    }
+}

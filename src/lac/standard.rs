@@ -165,6 +165,20 @@ impl StandardLac {
         s * lnrel(y) * exprel((self.alpha - 1.0) * lr)
     }
 
+    /// θ(s) and κ(s) together: both take ln ρ(s), so one logarithm serves both.
+    pub(crate) fn theta_kappa(&self, s: f64) -> (f64, f64) {
+        let y = self.y(s);
+        if y <= -1.0 {
+            return (self.theta(s), 0.0);
+        }
+        let rel = lnrel(y);
+        let ln_rho = self.l_ref * (s / self.s_ref) * rel;
+        (
+            s * rel * exprel((self.alpha - 1.0) * ln_rho),
+            (-ln_rho).exp(),
+        )
+    }
+
     /// θ(s) and the increments θ(s ± d) − θ(s), the increments by a power series where the
     /// curvature changes little over ±d (`None` there otherwise, and at the κ = 0 point).
     ///
