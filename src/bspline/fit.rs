@@ -283,7 +283,7 @@ fn fit_unit(points: &[Point], options: &FitOptions) -> Result<BSplineFit, FitErr
     let mut attempts = 0;
     let mut attempt = |segments: usize| -> Result<BSplineFit, FitError> {
         attempts += 1;
-        fit_segments(points, &weights, &chord, segments, options)
+        fit_segments(points, &weights, &chord, segments, options, true)
     };
     let step = |n: usize| match options.search {
         SegmentSearch::DoublingBisection => 2 * n,
@@ -322,6 +322,16 @@ fn fit_unit(points: &[Point], options: &FitOptions) -> Result<BSplineFit, FitErr
         let segments = (hi * FAIRING_SEGMENT_FACTOR).min(max_segments);
         passed = fair(points, &weights, &chord, segments, options, passed)?;
     }
+    if passed.fairing == 0.0 {
+        // The search's own fit is the answer: give it every parameter correction (it stopped at
+        // the first that passed), keeping it as it is should that lift a sample over.
+        let full = fit_segments(points, &weights, &chord, hi, options, false)?;
+        let attempts = passed.attempts + 1;
+        if full.within_tolerance {
+            passed = full;
+        }
+        passed.attempts = attempts;
+    }
     Ok(exact(passed, points, options.tolerance))
 }
 
@@ -347,7 +357,7 @@ fn fair(
     fallback: BSplineFit,
 ) -> Result<BSplineFit, FitError> {
     let mut attempts = fallback.attempts + 1;
-    let plain = fit_segments(points, weights, chord, segments, options)?;
+    let plain = fit_segments(points, weights, chord, segments, options, false)?;
     let jumps = jump_energy(&plain.curve);
     if !(plain.within_tolerance && jumps > 0.0 && jumps.is_finite()) {
         return Ok(BSplineFit {
@@ -546,24 +556,17 @@ fn penalised_least_squares(
 
 /// Least squares with a fixed number of segments, with parameter correction; distances
 /// exact on the final curve.
+///
+/// With `until_within`, the corrections stop as soon as every sample is within the tolerance:
+/// the segment-count search only asks whether a count passes, and a further correction only
+/// lowers the distances.
 fn fit_segments(
     points: &[Point],
     weights: &[f64],
     chord: &[f64],
     segments: usize,
     options: &FitOptions,
-) -> Result<BSplineFit, FitError> {
-    fit_segments_penalised(points, weights, chord, segments, 0.0, options)
-}
-
-/// [`fit_segments`] with a fairness weight.
-fn fit_segments_penalised(
-    points: &[Point],
-    weights: &[f64],
-    chord: &[f64],
-    segments: usize,
-    jump_weight: f64,
-    options: &FitOptions,
+    until_within: bool,
 ) -> Result<BSplineFit, FitError> {
     let knots = averaged_knots(chord, segments);
     let mut params = chord.to_vec();
@@ -576,7 +579,7 @@ fn fit_segments_penalised(
             &params,
             weights,
             knots.clone(),
-            jump_weight,
+            0.0,
             (options.start, options.end),
         )?;
         let pieces = Pieces::new(curve.to_beziers());
@@ -587,7 +590,9 @@ fn fit_segments_penalised(
                 .zip(&params)
                 .map(|(q, &u)| pieces.project_local(*q, u)),
         );
-        if pass == options.parameter_corrections {
+        if pass == options.parameter_corrections
+            || (until_within && feet.iter().all(|f| f.distance <= options.tolerance))
+        {
             break;
         }
         // Far from the tolerance, corrections will not get there: this count fails (unless it

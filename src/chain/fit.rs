@@ -7,7 +7,7 @@ use super::state::{Joint, SegmentKey, State};
 use crate::bspline::BSpline;
 use crate::bspline::project::Pieces;
 use crate::geom::{Point, Vec2};
-use crate::lac::lcg::{lcg_of_bezier_span_within, lcg_slope};
+use crate::lac::lcg::{lcg_of_bezier_span_rough, lcg_slope};
 use crate::lac::{
     AlphaChoice, AlphaSearch, Deviation, LacError, LacSegment, SpanFitOptions,
     alpha_search::{ALPHA_TOLERANCE, SEED_ALPHA_TOLERANCE},
@@ -41,11 +41,6 @@ const SPAN_REFERENCE_POINTS: usize = 8;
 /// search: enough to average out the B-spline's curvature wiggles, a few microseconds of
 /// evaluation.
 const LCG_GUESS_POINTS: usize = 16;
-
-/// Relative accuracy of the arc lengths that place [`LCG_GUESS_POINTS`]: the guess only starts
-/// a search, and points a thousandth of a piece off their place along it change the graph's
-/// slope by far less than the search's tolerance.
-const LCG_GUESS_ACCURACY: f64 = 1e-3;
 
 /// A merge's α search gives up when the merged segment at its starting α (the parts' α,
 /// weighted by their samples) misses a sample by more than this many tolerances: the search
@@ -461,11 +456,7 @@ impl<'a> Fitter<'a> {
             // A span no α can join keeps a placeholder: `repair`, which runs next, gives it the
             // α its samples choose or splits it into a biarc.
             // The slope of the span's logarithmic curvature graph starts the α search.
-            let guess = lcg_slope(&lcg_of_bezier_span_within(
-                &pieces,
-                LCG_GUESS_POINTS,
-                LCG_GUESS_ACCURACY,
-            ));
+            let guess = lcg_slope(&lcg_of_bezier_span_rough(&pieces, LCG_GUESS_POINTS));
             let (alpha, search, fit) = self
                 .search(&start, &end, &held, (u0, u1), guess, f64::INFINITY)
                 .map(|found| (found.alpha, found.search, found.fit))
