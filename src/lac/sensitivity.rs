@@ -40,13 +40,23 @@
 //! most that exponent): about 1e-8 relative, far more than a Gauss–Newton step needs.
 
 use super::segment::LacSegment;
-use super::special::{GAUSS_LEGENDRE_3, cdiv, cis, cmul, conj, exprel};
+use super::special::{GAUSS_LEGENDRE_3, SERIES_TERM_EPS, cdiv, cis, cmul, conj, exprel};
 use crate::geom::Vec2;
 
 /// Largest phase change (radians), and largest change of the exponent αw, over one panel of the
 /// pass: the 3-point rule's relative error on e^{iθ} over a panel turning τ is about τ⁶/2·10⁶,
 /// 8e-9 at 0.5.
 const PANEL_TURN: f64 = 0.5;
+
+/// Stretches whose phase and exponent change by at most this are integrated by one 2-point
+/// Gauss–Legendre panel: its relative error on e^{iτt}, about (τ/2)⁴/135, is 3e-9 at 0.05 (many
+/// stretches between neighbouring feet are this short). At 0.2 (7e-7 per stretch) the
+/// implicit derivative of q, a quotient by the small φ_q near the drawable region's limit,
+/// magnified the errors to 5e-3 at α = 3 (see the tests).
+const GL2_MAX_SPREAD: f64 = 0.05;
+
+/// The 2-point Gauss–Legendre abscissa 1/√3.
+const GL2_NODE: f64 = 0.577_350_269_189_625_8;
 
 /// Most panels of one pass: a segment needing more (an extreme curvature ratio at a large |α|)
 /// is left to the caller's differences.
@@ -78,19 +88,23 @@ pub(crate) struct Sensitivity {
     pub alpha: Vec2,
 }
 
-/// h(z) = (z·e^z − e^z + 1)/z², with h(0) = 1/2.
-fn h(z: f64) -> f64 {
+/// exprel(z) = (e^z − 1)/z and h(z) = (z·e^z − e^z + 1)/z² (h(0) = 1/2), from one `exp_m1`.
+fn exprel_and_h(z: f64) -> (f64, f64) {
     if z.abs() < H_SERIES_BELOW {
         // Σ_{m≥2} (m − 1)·z^{m−2}/m!: the power z^{m−2}/m! is carried from term to term.
         let (mut sum, mut power) = (0.0, 0.5);
         for m in 2..2 + H_SERIES_TERMS {
-            sum += (m - 1) as f64 * power;
+            let term = (m - 1) as f64 * power;
+            sum += term;
+            if term.abs() <= SERIES_TERM_EPS {
+                break;
+            }
             power *= z / (m + 1) as f64;
         }
-        sum
+        (exprel(z), sum)
     } else {
         let em1 = z.exp_m1();
-        (z * (1.0 + em1) - em1) / (z * z)
+        (em1 / z, (z * (1.0 + em1) - em1) / (z * z))
     }
 }
 
@@ -112,12 +126,13 @@ type Integrands = [Vec2; 4];
 impl LogRadiusShape {
     fn integrands(&self, w: f64) -> Integrands {
         let z = (self.alpha - 1.0) * w;
-        let g = w * exprel(z);
+        let (rel, h) = exprel_and_h(z);
+        let g = w * rel;
         let ratio = g / self.g_q;
         let theta = self.theta_t * ratio;
         let f = cis(theta) * (self.alpha * w).exp();
         let d_theta_q = -theta * self.e_q / self.g_q;
-        let d_theta_alpha = self.theta_t * (w * w * h(z) - ratio * self.dg_q) / self.g_q;
+        let d_theta_alpha = self.theta_t * (w * w * h - ratio * self.dg_q) / self.g_q;
         // i·x·f.
         let i_times = |x: f64| Vec2::new(-f.y * x, f.x * x);
         [
@@ -140,9 +155,19 @@ impl LogRadiusShape {
         if *panels > MAX_PANELS {
             return None;
         }
-        let (w0, w1, x1) = GAUSS_LEGENDRE_3;
         let step = (b - a) / n as f64;
         let mut sum = [Vec2::ZERO; 4];
+        if spread <= GL2_MAX_SPREAD {
+            // One 2-point panel (nodes ±1/√3, weights 1).
+            let (mid, half) = (0.5 * (a + b), 0.5 * (b - a));
+            for x in [-GL2_NODE, GL2_NODE] {
+                for (s, v) in sum.iter_mut().zip(self.integrands(mid + half * x)) {
+                    *s += v * half;
+                }
+            }
+            return Some(sum);
+        }
+        let (w0, w1, x1) = GAUSS_LEGENDRE_3;
         for k in 0..n {
             let mid = a + step * (k as f64 + 0.5);
             let half = 0.5 * step;
@@ -186,7 +211,7 @@ pub(crate) fn sensitivities(segment: &LacSegment, feet: &[f64]) -> Option<Vec<Se
 
         g_q: q * exprel(beta * q),
         e_q: (beta * q).exp(),
-        dg_q: q * q * h(beta * q),
+        dg_q: q * q * exprel_and_h(beta * q).1,
     };
     // The standard form's turning sign: the travel's, reversed when it is travelled from L.
     let travel_sign = (segment.kappa0() + segment.kappa1()).signum();
