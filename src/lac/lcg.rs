@@ -199,8 +199,11 @@ pub(crate) fn lcg_of_bezier_span_rough(pieces: &[ParamBez], count: usize) -> Vec
     })
 }
 
-/// Chords per piece of [`lcg_of_bezier_span_rough`]'s arc-length table: a chord of a piece
-/// turning τ is shorter than its arc by about τ²/24 of it, 6e-4 for a piece turning a radian.
+/// Chords per piece of [`lcg_of_bezier_span_rough`]'s arc-length table: a chord turning τ is
+/// shorter than its arc by about τ²/24 of it. The slope is then within 1e-3 of the exact graph's
+/// for spans of a few pieces, and 0.06 off for a single cubic standing for a whole strongly
+/// curving segment (curvature ratio 12, unevenly parametrised): an eighth of the cell the α
+/// search steps by. 16 chords cost as much overall and move the fits only by the fit's chaos.
 const ROUGH_TABLE_STEPS: usize = 8;
 
 /// The LCG points of [`lcg_of_bezier_span`] given each piece's arc length (`lengths`) and the
@@ -295,41 +298,35 @@ pub fn lcg_slope(points: &[LcgPoint]) -> Option<f64> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::geom::{CubicBez, Point};
-
-    /// A few Hermite cubics through an LAC segment, like a span of the split B-spline.
-    fn span(segment: &LacSegment, n: usize) -> Vec<ParamBez> {
-        let h = segment.length() / n as f64;
-        let samples: Vec<_> = (0..=n).map(|i| segment.sample(i as f64 * h)).collect();
-        samples
-            .windows(2)
-            .enumerate()
-            .map(|(i, w)| {
-                let t0 = Vec2::from_angle(w[0].theta) * (h / 3.0);
-                let t1 = Vec2::from_angle(w[1].theta) * (h / 3.0);
-                ParamBez {
-                    bez: CubicBez::new(w[0].point, w[0].point + t0, w[1].point - t1, w[1].point),
-                    u0: i as f64,
-                    u1: (i + 1) as f64,
-                }
-            })
-            .collect()
-    }
+    use crate::export::segment_beziers;
+    use crate::geom::Point;
 
     #[test]
     fn the_rough_graph_has_the_exact_graphs_slope() {
         for alpha in [-1.5, -1.0, 0.0, 0.5, 1.0, 2.0] {
             let segment = LacSegment::new(Point::new(0.0, 0.0), 0.2, 12.0, Some(alpha), 0.02, 0.25)
                 .expect("segment");
-            for n in [1, 3, 6] {
-                let pieces = span(&segment, n);
+            // The segment as cubic Béziers, from one to a few pieces, like a span of the split
+            // B-spline.
+            for accuracy in [1e-1, 1e-2, 1e-3, 1e-4] {
+                let pieces: Vec<ParamBez> = segment_beziers(&segment, accuracy)
+                    .cubics
+                    .into_iter()
+                    .enumerate()
+                    .map(|(i, bez)| ParamBez {
+                        bez,
+                        u0: i as f64,
+                        u1: (i + 1) as f64,
+                    })
+                    .collect();
                 let exact = lcg_slope(&lcg_of_bezier_span(&pieces, 16)).expect("slope");
                 let rough = lcg_slope(&lcg_of_bezier_span_rough(&pieces, 16)).expect("slope");
-                // A guess for a search stepping by up to 0.5: a few hundredths are nothing (a
-                // single piece for the whole segment is the worst here: 0.017).
+                // A guess for a search stepping by up to 0.5: a tenth is a fifth of a cell (a
+                // single piece for the whole segment is the worst case, 0.06 off).
                 assert!(
-                    (exact - rough).abs() < 0.03,
-                    "α {alpha}, {n} pieces: {exact} vs {rough}"
+                    (exact - rough).abs() < 0.1,
+                    "α {alpha}, {} pieces: {exact} vs {rough}",
+                    pieces.len()
                 );
             }
         }
