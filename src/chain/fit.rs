@@ -42,6 +42,18 @@ const SPAN_REFERENCE_POINTS: usize = 8;
 /// evaluation.
 const LCG_GUESS_POINTS: usize = 16;
 
+/// The limits of [`Fitter::search`] for a search that never gives up.
+const NEVER_ABANDON: (f64, f64) = (f64::INFINITY, f64::INFINITY);
+
+/// A merge's α search also gives up when, at its starting α, the linear model of the distances
+/// in α predicts that no α within two cells brings every sample within this many tolerances
+/// (`SpanFitOptions::unreachable_above`): the merged segment must be within one, and the model's
+/// error near the guess (a few percent of the distances there, which are at most
+/// [`MERGE_ABANDON_FACTOR`] tolerances) is well inside the margin. Over the fixture strokes up
+/// to 600 samples at three tolerances: 2.5 % fewer instructions on the median stroke, 2 218
+/// segments against 2 215 and the same rms distance (1.25: 4 %, but 2 225 segments).
+const MERGE_UNREACHABLE_FACTOR: f64 = 1.5;
+
 /// A merge's α search gives up when the merged segment at its starting α (the parts' α,
 /// weighted by their samples) misses a sample by more than this many tolerances: the search
 /// moves α by little from there, and a segment that far off does not come within the
@@ -332,6 +344,7 @@ impl<'a> Fitter<'a> {
                 ALPHA_TOLERANCE
             },
             abandon_above: f64::INFINITY,
+            unreachable_above: f64::INFINITY,
         }
     }
 
@@ -383,7 +396,7 @@ impl<'a> Fitter<'a> {
         samples: &[usize],
         u: (f64, f64),
         guess: Option<f64>,
-        abandon_above: f64,
+        (abandon_above, unreachable_above): (f64, f64),
     ) -> Result<Searched, LacError> {
         let on_samples = samples.len() >= MIN_SPAN_SAMPLES;
         let points: Vec<Point> = if on_samples {
@@ -400,6 +413,7 @@ impl<'a> Fitter<'a> {
             &SpanFitOptions {
                 guess,
                 abandon_above,
+                unreachable_above,
                 ..self.span_options()
             },
         )?;
@@ -458,7 +472,7 @@ impl<'a> Fitter<'a> {
             // The slope of the span's logarithmic curvature graph starts the α search.
             let guess = lcg_slope(&lcg_of_bezier_span_rough(&pieces, LCG_GUESS_POINTS));
             let (alpha, search, fit) = self
-                .search(&start, &end, &held, (u0, u1), guess, f64::INFINITY)
+                .search(&start, &end, &held, (u0, u1), guess, NEVER_ABANDON)
                 .map(|found| (found.alpha, found.search, found.fit))
                 .unwrap_or((self.options.alpha.middle(), AlphaSearch::default(), None));
             fits.push(fit);
@@ -577,7 +591,7 @@ impl<'a> Fitter<'a> {
             let parent = state.alphas[k];
             let searched = |x: &Joint, y: &Joint, s: &[usize]| {
                 if s.len() >= MIN_SPAN_SAMPLES {
-                    self.search(x, y, s, (0.0, 0.0), Some(parent), f64::INFINITY)
+                    self.search(x, y, s, (0.0, 0.0), Some(parent), NEVER_ABANDON)
                         .ok()
                         .map(|found| (found.alpha, found.search, found.fit))
                 } else {
@@ -827,7 +841,10 @@ impl<'a> Fitter<'a> {
                     &union,
                     (a.u, b.u),
                     Some(guess),
-                    MERGE_ABANDON_FACTOR * self.tolerance,
+                    (
+                        MERGE_ABANDON_FACTOR * self.tolerance,
+                        MERGE_UNREACHABLE_FACTOR * self.tolerance,
+                    ),
                 ) && (!sparse || found.max <= self.tolerance)
                 {
                     let (alpha, search) = (found.alpha, found.search);

@@ -172,6 +172,12 @@ pub struct SpanFitOptions {
     /// of the samples (a merge) and knows that a guess missing by far more will not get there.
     /// Default +∞ (never give up).
     pub abandon_above: f64,
+    /// Give up ([`LacError::SearchAbandoned`]) too when, at the guess, the linear model of the
+    /// sample distances in α predicts that no α within [`REACH`] of it brings every sample within
+    /// this: the largest distance the search's answer can have is at least that minimax (the
+    /// search minimises the rms distance, not the largest). For a caller that only keeps answers
+    /// within some distance (a merge). Default +∞ (never give up).
+    pub unreachable_above: f64,
 }
 
 impl SpanFitOptions {
@@ -184,6 +190,7 @@ impl SpanFitOptions {
             guess: None,
             alpha_tolerance: ALPHA_TOLERANCE,
             abandon_above: f64::INFINITY,
+            unreachable_above: f64::INFINITY,
         }
     }
 }
@@ -205,6 +212,7 @@ pub fn fit_span(
         guess,
         alpha_tolerance,
         abandon_above,
+        unreachable_above,
     } = *options;
     choice.validate()?;
     let (min, max) = match choice {
@@ -264,6 +272,17 @@ pub fn fit_span(
         return Err(LacError::SearchAbandoned {
             max: d.max,
             limit: abandon_above,
+        });
+    }
+    if let (Some(g), Some((segment, d))) = (guess, &first)
+        && unreachable_above.is_finite()
+        && let Some(best) =
+            predicted_minimax(segment, d, (min - g).max(-REACH), (max - g).min(REACH))
+        && best > unreachable_above
+    {
+        return Err(LacError::SearchAbandoned {
+            max: best,
+            limit: unreachable_above,
         });
     }
 
@@ -530,22 +549,67 @@ fn gauss_newton(
 /// The Gauss–Newton model in α of the sum of squared signed sample distances `d` to `segment`:
 /// (Σ rᵢ·r′ᵢ, Σ r′ᵢ²); `None` where the derivatives are not available.
 fn newton_model(segment: &LacSegment, d: &Deviation) -> Option<(f64, f64)> {
-    let derivatives = sensitivities(segment, &d.feet)?;
     let (mut gradient, mut curvature) = (0.0, 0.0);
-    for (((&foot, &distance), &side), derivative) in d
-        .feet
-        .iter()
-        .zip(&d.distances)
-        .zip(&d.sides)
-        .zip(&derivatives)
-    {
-        let theta = segment.theta(foot);
-        // r = (q − P)·N at an interior foot, so r′ = −P′·N (zero at an end: P′ = 0 there).
-        let slope = -derivative.alpha.dot(Vec2::new(-theta.sin(), theta.cos()));
-        gradient += side * distance * slope;
+    for (r, slope) in linear_model(segment, d)? {
+        gradient += r * slope;
         curvature += slope * slope;
     }
     Some((gradient, curvature))
+}
+
+/// Each sample's signed distance r to `segment` (distances `d`) and its derivative r′ in α at
+/// fixed end data; `None` where the derivatives are not available.
+fn linear_model(segment: &LacSegment, d: &Deviation) -> Option<Vec<(f64, f64)>> {
+    let derivatives = sensitivities(segment, &d.feet)?;
+    Some(
+        d.feet
+            .iter()
+            .zip(&d.distances)
+            .zip(&d.sides)
+            .zip(&derivatives)
+            .map(|(((&foot, &distance), &side), derivative)| {
+                let theta = segment.theta(foot);
+                // r = (q − P)·N at an interior foot, so r′ = −P′·N (zero at an end: P′ = 0).
+                let slope = -derivative.alpha.dot(Vec2::new(-theta.sin(), theta.cos()));
+                (side * distance, slope)
+            })
+            .collect(),
+    )
+}
+
+/// How far from the guess (in α) [`SpanFitOptions::unreachable_above`] looks: two cells, as far
+/// as the linear model of the distances is worth trusting.
+pub const REACH: f64 = 2.0 * GRID_STEP;
+
+/// Golden-section steps of [`predicted_minimax`]: 0.618⁴⁰ of the interval, far below anything
+/// the linear model resolves.
+const MINIMAX_STEPS: usize = 40;
+
+/// min over δ ∈ [lo, hi] of maxᵢ |rᵢ + r′ᵢ·δ| under the linear model of the distances in α
+/// ([`linear_model`]): a convex function of δ, minimised by golden section. `None` where the
+/// derivatives are not available or the interval is empty.
+fn predicted_minimax(segment: &LacSegment, d: &Deviation, lo: f64, hi: f64) -> Option<f64> {
+    if !(lo <= hi) {
+        return None;
+    }
+    let model = linear_model(segment, d)?;
+    let worst = |delta: f64| {
+        model
+            .iter()
+            .map(|(r, slope)| (r + slope * delta).abs())
+            .fold(0.0, f64::max)
+    };
+    let golden = 0.5 * (5f64.sqrt() - 1.0);
+    let (mut a, mut b) = (lo, hi);
+    for _ in 0..MINIMAX_STEPS {
+        let (c, e) = (b - golden * (b - a), a + golden * (b - a));
+        if worst(c) <= worst(e) {
+            b = e;
+        } else {
+            a = c;
+        }
+    }
+    Some(worst(0.5 * (a + b)))
 }
 
 #[cfg(test)]
@@ -625,6 +689,33 @@ mod tests {
                 );
             }
         }
+    }
+
+    #[test]
+    fn a_search_gives_up_when_no_alpha_within_reach_can_meet_the_limit() {
+        let (segment, samples) = planted(-1.0);
+        let options = |guess: f64, unreachable_above: f64| SpanFitOptions {
+            guess: Some(guess),
+            unreachable_above,
+            ..SpanFitOptions::new(1e-6)
+        };
+        // A tenth of what the segment at α = −0.7 misses by: reachable from there (α = −1 fits
+        // exactly), not from α = 2.
+        let (a, ta, b, tb) = g1(&segment);
+        let near = fit_g1(a, ta, b, tb, -0.7).expect("joins");
+        let limit = 0.1 * deviation(&near, &samples, 1e-6).max;
+        // Near the clothoid the model sees α = −1 within reach and the search goes on to it.
+        let fit = search(&segment, &samples, &options(-0.7, limit)).expect("reachable");
+        assert!((fit.segment.alpha().expect("a spiral") + 1.0).abs() < 0.05);
+        // From α = 2 no α within two cells comes near the samples: given up after one
+        // evaluation, reporting the model's best.
+        assert!(matches!(
+            search(&segment, &samples, &options(2.0, limit)),
+            Err(LacError::SearchAbandoned { max, limit: l }) if max > l && l == limit
+        ));
+        // Without a limit the same guess still finds the clothoid.
+        let fit = search(&segment, &samples, &options(2.0, f64::INFINITY)).expect("fits");
+        assert!((fit.segment.alpha().expect("a spiral") + 1.0).abs() < 0.05);
     }
 
     #[test]
