@@ -274,16 +274,23 @@ pub fn fit_span(
             limit: abandon_above,
         });
     }
+    // The distances' linear model in α at the guess, when the reach limit asks for it; the first
+    // Gauss–Newton step takes it over.
+    let mut guess_model = None;
     if let (Some(g), Some((segment, d))) = (guess, &first)
         && unreachable_above.is_finite()
-        && let Some(best) =
-            predicted_minimax(segment, d, (min - g).max(-REACH), (max - g).min(REACH))
-        && best > unreachable_above
     {
-        return Err(LacError::SearchAbandoned {
-            max: best,
-            limit: unreachable_above,
-        });
+        guess_model = linear_model(segment, d);
+        if let Some(best) = guess_model
+            .as_deref()
+            .and_then(|m| predicted_minimax(m, (min - g).max(-REACH), (max - g).min(REACH)))
+            && best > unreachable_above
+        {
+            return Err(LacError::SearchAbandoned {
+                max: best,
+                limit: unreachable_above,
+            });
+        }
     }
 
     let mut grid = Vec::new();
@@ -310,71 +317,22 @@ pub fn fit_span(
     let newton = start.as_ref().and_then(|(alpha, (segment, d))| {
         gauss_newton(
             (*alpha, *segment, d.clone()),
+            guess_model,
             (min, max),
             alpha_tolerance,
             &mut grid,
             &mut evaluate,
         )
     });
-    let alpha = if let Some(alpha) = newton {
-        alpha
-    } else {
-        // The bracket [lo, hi] around the best point found, by a walk from the start or the grid.
-        let walked = match start {
-            Some((g, (_, d))) => walk(g, d.rms, min, max, &mut grid, |alpha| {
-                evaluate(alpha).map(|(_, d)| d.rms)
-            }),
-            None => None,
-        };
-        let (lo, hi, best_alpha) = match walked {
-            Some(bracket) => bracket,
-            None => {
-                grid.clear();
-                let cells = (((max - min) / GRID_STEP).ceil() as usize).max(1);
-                let grid_alpha = |i: usize| min + (max - min) * i as f64 / cells as f64;
-                let mut best: Option<(usize, f64)> = None;
-                for i in 0..=cells {
-                    let alpha = grid_alpha(i);
-                    if let Some((_, d)) = evaluate(alpha) {
-                        grid.push([alpha, d.rms]);
-                        if best.is_none_or(|(_, r)| d.rms < r) {
-                            best = Some((i, d.rms));
-                        }
-                    }
-                }
-                let Some((k, _)) = best else {
-                    return Err(LacError::NoAlphaInRange { min, max });
-                };
-                (
-                    grid_alpha(k.saturating_sub(1)),
-                    grid_alpha((k + 1).min(cells)),
-                    grid_alpha(k),
-                )
-            }
-        };
-
-        // Brent on the cells around the best point, started from the points the walk or the grid
-        // already evaluated there (their parabola gives the first step).
-        let value_at = |alpha: f64| grid.iter().find(|p| p[0] == alpha).map(|p| (alpha, p[1]));
-        let best = value_at(best_alpha);
-        let known: Vec<(f64, f64)> = [lo, hi].into_iter().filter_map(value_at).collect();
-        let objective = |alpha: f64| evaluate(alpha).map_or(f64::INFINITY, |(_, d)| d.rms);
-        let minimum = match best {
-            Some(best) => brent_from(
-                objective,
-                (lo, hi),
-                best,
-                &known,
-                alpha_tolerance,
-                MAX_BRENT_EVALUATIONS,
-            ),
-            None => brent(objective, lo, hi, alpha_tolerance, MAX_BRENT_EVALUATIONS),
-        };
-        if minimum.value.is_finite() {
-            minimum.x
-        } else {
-            best_alpha
-        }
+    let alpha = match newton {
+        Some(alpha) => alpha,
+        None => walk_and_brent(
+            start.map(|(g, (_, d))| (g, d.rms)),
+            (min, max),
+            alpha_tolerance,
+            &mut grid,
+            &mut evaluate,
+        )?,
     };
     let (segment, known) = match best_seen {
         Some((seen, segment, _, known)) if seen == alpha => (segment, known),
@@ -401,6 +359,76 @@ pub fn fit_span(
         segment,
         deviation,
         search,
+    })
+}
+
+/// The walk from `start` (α and its objective) and Brent on the bracket it finds, or, without a
+/// start or where the walk finds no direction, the grid over `range` and Brent on the cells
+/// around its best point: the search where Gauss–Newton cannot go on (see the module
+/// documentation). Brent starts from the points the walk or the grid evaluated (their parabola
+/// gives the first step). The α found, or [`LacError::NoAlphaInRange`].
+fn walk_and_brent(
+    start: Option<(f64, f64)>,
+    (min, max): (f64, f64),
+    alpha_tolerance: f64,
+    grid: &mut Vec<[f64; 2]>,
+    evaluate: &mut impl FnMut(f64) -> Option<(LacSegment, Deviation)>,
+) -> Result<f64, LacError> {
+    // The bracket [lo, hi] around the best point found, by a walk from the start or the grid.
+    let walked = match start {
+        Some((g, rms)) => walk(g, rms, min, max, grid, |alpha| {
+            evaluate(alpha).map(|(_, d)| d.rms)
+        }),
+        None => None,
+    };
+    let (lo, hi, best_alpha) = match walked {
+        Some(bracket) => bracket,
+        None => {
+            grid.clear();
+            let cells = (((max - min) / GRID_STEP).ceil() as usize).max(1);
+            let grid_alpha = |i: usize| min + (max - min) * i as f64 / cells as f64;
+            let mut best: Option<(usize, f64)> = None;
+            for i in 0..=cells {
+                let alpha = grid_alpha(i);
+                if let Some((_, d)) = evaluate(alpha) {
+                    grid.push([alpha, d.rms]);
+                    if best.is_none_or(|(_, r)| d.rms < r) {
+                        best = Some((i, d.rms));
+                    }
+                }
+            }
+            let Some((k, _)) = best else {
+                return Err(LacError::NoAlphaInRange { min, max });
+            };
+            (
+                grid_alpha(k.saturating_sub(1)),
+                grid_alpha((k + 1).min(cells)),
+                grid_alpha(k),
+            )
+        }
+    };
+
+    // Brent on the cells around the best point, started from the points the walk or the grid
+    // already evaluated there (their parabola gives the first step).
+    let value_at = |alpha: f64| grid.iter().find(|p| p[0] == alpha).map(|p| (alpha, p[1]));
+    let best = value_at(best_alpha);
+    let known: Vec<(f64, f64)> = [lo, hi].into_iter().filter_map(value_at).collect();
+    let objective = |alpha: f64| evaluate(alpha).map_or(f64::INFINITY, |(_, d)| d.rms);
+    let minimum = match best {
+        Some(best) => brent_from(
+            objective,
+            (lo, hi),
+            best,
+            &known,
+            alpha_tolerance,
+            MAX_BRENT_EVALUATIONS,
+        ),
+        None => brent(objective, lo, hi, alpha_tolerance, MAX_BRENT_EVALUATIONS),
+    };
+    Ok(if minimum.value.is_finite() {
+        minimum.x
+    } else {
+        best_alpha
     })
 }
 
@@ -495,9 +523,11 @@ const FLAT_GAIN: f64 = 1e-3;
 /// Stops with the current α once a step is below `tolerance` or the model predicts less than
 /// [`FLAT_GAIN`]; `None` (the walk and Brent take over from the evaluations made) where the
 /// derivatives are not available or no step helps. From a guess within a cell of the minimum:
-/// two or three evaluations instead of the walk's three or four and Brent's.
+/// two or three evaluations instead of the walk's three or four and Brent's. `model`, when
+/// given, is `start`'s [`linear_model`] already computed (the reach test's).
 fn gauss_newton(
     start: (f64, LacSegment, Deviation),
+    mut model: Option<Vec<(f64, f64)>>,
     (min, max): (f64, f64),
     tolerance: f64,
     grid: &mut Vec<[f64; 2]>,
@@ -507,7 +537,13 @@ fn gauss_newton(
     grid.push([alpha, d.rms]);
     let mut trust = GRID_STEP;
     for _ in 0..MAX_NEWTON_STEPS {
-        let (gradient, curvature) = newton_model(&segment, &d)?;
+        let model = match model.take() {
+            Some(known) => known,
+            None => linear_model(&segment, &d)?,
+        };
+        let (gradient, curvature) = model.iter().fold((0.0, 0.0), |(g, c), (r, slope)| {
+            (g + r * slope, c + slope * slope)
+        });
         if !(curvature > 0.0) {
             return None;
         }
@@ -546,17 +582,6 @@ fn gauss_newton(
     Some(alpha)
 }
 
-/// The Gauss–Newton model in α of the sum of squared signed sample distances `d` to `segment`:
-/// (Σ rᵢ·r′ᵢ, Σ r′ᵢ²); `None` where the derivatives are not available.
-fn newton_model(segment: &LacSegment, d: &Deviation) -> Option<(f64, f64)> {
-    let (mut gradient, mut curvature) = (0.0, 0.0);
-    for (r, slope) in linear_model(segment, d)? {
-        gradient += r * slope;
-        curvature += slope * slope;
-    }
-    Some((gradient, curvature))
-}
-
 /// Each sample's signed distance r to `segment` (distances `d`) and its derivative r′ in α at
 /// fixed end data; `None` where the derivatives are not available.
 fn linear_model(segment: &LacSegment, d: &Deviation) -> Option<Vec<(f64, f64)>> {
@@ -585,14 +610,13 @@ pub const REACH: f64 = 2.0 * GRID_STEP;
 /// the linear model resolves.
 const MINIMAX_STEPS: usize = 40;
 
-/// min over δ ∈ [lo, hi] of maxᵢ |rᵢ + r′ᵢ·δ| under the linear model of the distances in α
-/// ([`linear_model`]): a convex function of δ, minimised by golden section. `None` where the
-/// derivatives are not available or the interval is empty.
-fn predicted_minimax(segment: &LacSegment, d: &Deviation, lo: f64, hi: f64) -> Option<f64> {
+/// min over δ ∈ [lo, hi] of maxᵢ |rᵢ + r′ᵢ·δ| under the linear model (rᵢ, r′ᵢ) of the distances
+/// in α ([`linear_model`]): a convex function of δ, minimised by golden section. `None` when the
+/// interval is empty.
+fn predicted_minimax(model: &[(f64, f64)], lo: f64, hi: f64) -> Option<f64> {
     if !(lo <= hi) {
         return None;
     }
-    let model = linear_model(segment, d)?;
     let worst = |delta: f64| {
         model
             .iter()
@@ -646,6 +670,14 @@ mod tests {
         fit_span(a, ta, b, tb, samples, options)
     }
 
+    /// The options of a search from `guess` on [`planted`] data (distances exact to 1e-6).
+    fn guided(guess: f64) -> SpanFitOptions {
+        SpanFitOptions {
+            guess: Some(guess),
+            ..SpanFitOptions::new(1e-6)
+        }
+    }
+
     #[test]
     fn the_search_finds_a_planted_alpha() {
         for alpha in [-1.0, 0.0, 0.5, 1.5] {
@@ -671,10 +703,7 @@ mod tests {
         for alpha in [-1.5, -1.0, 0.0, 0.5, 1.5, 2.0] {
             let (segment, samples) = planted(alpha);
             for offset in [-0.45, 0.3] {
-                let options = SpanFitOptions {
-                    guess: Some(alpha + offset),
-                    ..SpanFitOptions::new(1e-6)
-                };
+                let options = guided(alpha + offset);
                 let fit = search(&segment, &samples, &options).expect("fits");
                 let found = fit.segment.alpha().expect("a spiral");
                 assert!(
@@ -695,9 +724,8 @@ mod tests {
     fn a_search_gives_up_when_no_alpha_within_reach_can_meet_the_limit() {
         let (segment, samples) = planted(-1.0);
         let options = |guess: f64, unreachable_above: f64| SpanFitOptions {
-            guess: Some(guess),
             unreachable_above,
-            ..SpanFitOptions::new(1e-6)
+            ..guided(guess)
         };
         // A tenth of what the segment at α = −0.7 misses by: reachable from there (α = −1 fits
         // exactly), not from α = 2.
@@ -722,9 +750,8 @@ mod tests {
     fn a_search_gives_up_only_when_its_guess_misses_by_more_than_the_limit() {
         let (segment, samples) = planted(-1.0);
         let options = |guess: f64, abandon_above: f64| SpanFitOptions {
-            guess: Some(guess),
             abandon_above,
-            ..SpanFitOptions::new(1e-6)
+            ..guided(guess)
         };
         // The clothoid's own α fits to rounding; α = 2 misses by far more than 1e-3.
         assert!(search(&segment, &samples, &options(-1.0, 1e-3)).is_ok());

@@ -102,11 +102,15 @@ impl Spiral {
 
     /// Turning θ(t) − θ0.
     fn turning(&self, t: f64) -> f64 {
-        let u = self.u(t);
+        self.turning_at(self.std.theta(self.u(t)))
+    }
+
+    /// The turning θ(t) − θ0 at the point whose standard-form tangent angle is `theta_std`.
+    fn turning_at(&self, theta_std: f64) -> f64 {
         if self.curling {
-            self.sigma * (self.theta_std_end - self.std.theta(u))
+            self.sigma * (self.theta_std_end - theta_std)
         } else {
-            self.sigma * self.std.theta(u)
+            self.sigma * theta_std
         }
     }
 
@@ -133,12 +137,7 @@ impl Spiral {
     /// Turning θ(t) − θ0 and signed curvature at t, from one standard-form evaluation.
     fn turning_kappa(&self, t: f64) -> (f64, f64) {
         let (theta, kappa) = self.std.theta_kappa(self.u(t));
-        let turning = if self.curling {
-            self.sigma * (self.theta_std_end - theta)
-        } else {
-            self.sigma * theta
-        };
-        (turning, self.sigma * kappa / self.scale)
+        (self.turning_at(theta), self.sigma * kappa / self.scale)
     }
 }
 
