@@ -3,7 +3,7 @@
 use crate::geom::Point;
 
 use super::curve::{BSpline, DEGREE};
-use super::lsq::{BandedLsq, LsqError};
+use super::lsq::{BandedLsq, LsqError, Row};
 use super::project::{Foot, Pieces};
 
 /// How each sample is weighted in the least-squares objective.
@@ -379,11 +379,12 @@ fn fair(
     );
     // The penalised fit at ln λ = t; a solve that fails (not expected: fairness rows only add
     // rank) counts as a failing weight, never as a failed fit: the fallback always exists.
+    // A design that cannot be set up (not expected: the plain fit used the same knots) fails
+    // every weight, like a failed solve.
+    let design = Design::new(points, &params, weights, knots, true, ends).ok();
     let mut trial = |t: f64| -> Option<BSplineFit> {
         attempts += 1;
-        let curve =
-            penalised_least_squares(points, &params, weights, knots.clone(), t.exp() * m, ends)
-                .ok()?;
+        let curve = design.as_ref()?.solve(t.exp() * m).ok()?;
         let pieces = Pieces::new(curve.to_beziers());
         let feet: Vec<Foot> = points
             .iter()
@@ -516,42 +517,82 @@ fn penalised_least_squares(
     jump_weight: f64,
     ends: (Option<Point>, Option<Point>),
 ) -> Result<BSpline, FitError> {
-    let n_ctrl = knots.len().saturating_sub(DEGREE + 1);
-    if n_ctrl < DEGREE + 1 || points.len() != params.len() || points.len() != weights.len() {
-        return Err(FitError::TooFewPoints(points.len()));
-    }
-    let mut lsq = BandedLsq::new(&knots);
-    // A clamped spline starts at its first control point and ends at its last.
-    if let Some(p) = ends.0 {
-        lsq.fix(0, p);
-    }
-    if let Some(p) = ends.1 {
-        lsq.fix(n_ctrl - 1, p);
-    }
-    let probe = SpanFinder::new(&knots);
-    // Knot k's fairness row goes in just before the first sample of span k, keeping the rows in
-    // column order (see `BandedLsq::add_knot_jump_penalty`).
-    let mut next_knot = DEGREE + 1;
-    for ((q, &u), &w) in points.iter().zip(params).zip(weights) {
-        let span = probe.find(u);
-        if jump_weight > 0.0 {
-            while next_knot <= span {
-                lsq.add_knot_jump_penalty(next_knot, jump_weight);
+    Design::new(points, params, weights, knots, jump_weight > 0.0, ends)?.solve(jump_weight)
+}
+
+/// The rows of a (penalised) least-squares system with fixed knots and sample parameters, in
+/// the order they are rotated in: the fairing search solves the same design at several
+/// weights, and the basis values and third derivatives need computing only once.
+struct Design {
+    knots: Vec<f64>,
+    rows: Vec<Row>,
+    ends: (Option<Point>, Option<Point>),
+    /// The mean sample weight (the scale of the rank fix, see [`BandedLsq::solve`]).
+    mean_weight: f64,
+}
+
+impl Design {
+    /// The sample rows, with each interior knot's jump row (when `jumps`) just before the first
+    /// sample of its span, keeping the rows in column order (see
+    /// `BandedLsq::add_knot_jump_penalty`).
+    fn new(
+        points: &[Point],
+        params: &[f64],
+        weights: &[f64],
+        knots: Vec<f64>,
+        jumps: bool,
+        ends: (Option<Point>, Option<Point>),
+    ) -> Result<Design, FitError> {
+        let n_ctrl = knots.len().saturating_sub(DEGREE + 1);
+        if n_ctrl < DEGREE + 1 || points.len() != params.len() || points.len() != weights.len() {
+            return Err(FitError::TooFewPoints(points.len()));
+        }
+        let mut rows = Vec::with_capacity(points.len() + if jumps { n_ctrl } else { 0 });
+        let probe = SpanFinder::new(&knots);
+        let mut next_knot = DEGREE + 1;
+        for ((q, &u), &w) in points.iter().zip(params).zip(weights) {
+            let span = probe.find(u);
+            if jumps {
+                while next_knot <= span {
+                    rows.extend(Row::jump(&knots, next_knot));
+                    next_knot += 1;
+                }
+            }
+            rows.push(Row::sample(&knots, span, u, *q, w));
+        }
+        if jumps {
+            while next_knot < n_ctrl {
+                rows.extend(Row::jump(&knots, next_knot));
                 next_knot += 1;
             }
         }
-        lsq.add_sample(span, u, *q, w);
+        let mean_weight = weights.iter().sum::<f64>() / weights.len().max(1) as f64;
+        Ok(Design {
+            knots,
+            rows,
+            ends,
+            mean_weight,
+        })
     }
-    if jump_weight > 0.0 {
-        while next_knot < n_ctrl {
-            lsq.add_knot_jump_penalty(next_knot, jump_weight);
-            next_knot += 1;
+
+    /// The curve of least weighted squares plus `jump_weight` times the jump energy.
+    fn solve(&self, jump_weight: f64) -> Result<BSpline, FitError> {
+        let n_ctrl = self.knots.len().saturating_sub(DEGREE + 1);
+        let mut lsq = BandedLsq::new(&self.knots);
+        // A clamped spline starts at its first control point and ends at its last.
+        if let Some(p) = self.ends.0 {
+            lsq.fix(0, p);
         }
+        if let Some(p) = self.ends.1 {
+            lsq.fix(n_ctrl - 1, p);
+        }
+        for row in &self.rows {
+            lsq.add_row(row, jump_weight);
+        }
+        let solution = lsq.solve(self.mean_weight)?;
+        BSpline::new(self.knots.clone(), solution.control_points)
+            .map_err(|_| FitError::Lsq(LsqError::Underdetermined(0)))
     }
-    let mean = weights.iter().sum::<f64>() / weights.len().max(1) as f64;
-    let solution = lsq.solve(mean)?;
-    BSpline::new(knots, solution.control_points)
-        .map_err(|_| FitError::Lsq(LsqError::Underdetermined(0)))
 }
 
 /// Least squares with a fixed number of segments, with parameter correction; distances

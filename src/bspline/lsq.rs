@@ -85,12 +85,34 @@ impl<'a> BandedLsq<'a> {
     /// Adds the observation "the curve at `u` is `q`" with weight `w` (> 0). `span` is the knot
     /// span holding `u` (see [`super::BSpline::find_span`]).
     pub fn add_sample(&mut self, span: usize, u: f64, q: Point, w: f64) {
-        let sw = w.sqrt();
-        let b = basis_functions(self.knots, span, u);
-        let row = [b[0] * sw, b[1] * sw, b[2] * sw, b[3] * sw, 0.0];
-        let norm = row.iter().map(|x| x * x).sum::<f64>().sqrt();
-        self.data_scale = self.data_scale.max(norm);
-        self.rotate_in(span - DEGREE, row, q.to_vec2() * sw);
+        self.add_row(&Row::sample(self.knots, span, u, q, w), 0.0);
+    }
+
+    /// Adds a prepared row (see [`Row`]); a knot's jump row gets the weight `jump_weight`.
+    pub(crate) fn add_row(&mut self, row: &Row, jump_weight: f64) {
+        match *row {
+            Row::Sample { first, row, rhs } => {
+                let norm = row.iter().map(|x| x * x).sum::<f64>().sqrt();
+                self.data_scale = self.data_scale.max(norm);
+                self.rotate_in(first, row, rhs);
+            }
+            Row::Jump {
+                first,
+                left,
+                right,
+                width,
+            } => {
+                let scale = (jump_weight * 0.5 * width).sqrt();
+                // Columns k−4..=k: the left span's basis covers k−4..=k−1, the right span's
+                // k−3..=k.
+                let mut row = [0.0; BAND];
+                for j in 0..4 {
+                    row[j] -= scale * left[j];
+                    row[j + 1] += scale * right[j];
+                }
+                self.rotate_in(first, row, Vec2::ZERO);
+            }
+        }
     }
 
     /// Adds a row with non-zeros `row` in columns `first..first + BAND` and right-hand side `rhs`.
@@ -145,17 +167,6 @@ impl<'a> BandedLsq<'a> {
         }
     }
 
-    /// The constant third derivatives `N‴_{k−3..=k}` of the four basis functions on the non-empty
-    /// knot span `k`: the third finite difference of the basis at four equally spaced points of
-    /// the span, divided by `h³` (exact for a cubic up to rounding).
-    fn third_derivatives(&self, k: usize) -> [f64; 4] {
-        let (a, b) = (self.knots[k], self.knots[k + 1]);
-        let h = (b - a) / 3.0;
-        let v: [[f64; 4]; 4] =
-            std::array::from_fn(|i| basis_functions(self.knots, k, a + h * i as f64));
-        std::array::from_fn(|j| (v[3][j] - 3.0 * v[2][j] + 3.0 * v[1][j] - v[0][j]) / (h * h * h))
-    }
-
     /// Adds the fairness row of interior knot `k` (between spans `k − 1` and `k`):
     /// `√(weight·h) · (C‴(k⁺) − C‴(k⁻)) = 0` with `h` the mean length of the two spans.
     ///
@@ -166,23 +177,9 @@ impl<'a> BandedLsq<'a> {
     /// The row touches control points `k − 4..=k`; add it before the first sample of span `k`
     /// to keep the rows in column order.
     pub fn add_knot_jump_penalty(&mut self, k: usize, weight: f64) {
-        if k < DEGREE + 1 || k >= self.r.len() {
-            return;
+        if let Some(row) = Row::jump(self.knots, k) {
+            self.add_row(&row, weight);
         }
-        let (a, m, b) = (self.knots[k - 1], self.knots[k], self.knots[k + 1]);
-        if !(a < m && m < b) {
-            return;
-        }
-        let left = self.third_derivatives(k - 1);
-        let right = self.third_derivatives(k);
-        let scale = (weight * 0.5 * (b - a)).sqrt();
-        // Columns k−4..=k: the left span's basis covers k−4..=k−1, the right span's k−3..=k.
-        let mut row = [0.0; BAND];
-        for j in 0..4 {
-            row[j] -= scale * left[j];
-            row[j + 1] += scale * right[j];
-        }
-        self.rotate_in(k - DEGREE - 1, row, Vec2::ZERO);
     }
 
     /// Adds every interior knot's fairness row (see [`BandedLsq::add_knot_jump_penalty`]).
@@ -240,6 +237,70 @@ impl<'a> BandedLsq<'a> {
             faired,
         })
     }
+}
+
+/// One row of a [`BandedLsq`] system, prepared once for several solves with the same knots and
+/// sample parameters (the fairing search solves one design at several weights): the basis values
+/// and third derivatives are its cost, the rotation the system's.
+#[derive(Clone, Copy, Debug)]
+pub(crate) enum Row {
+    /// A sample's row √w·[N_{k−3}(u) … N_k(u)] from column `first`, right-hand side √w·q.
+    Sample {
+        first: usize,
+        row: [f64; BAND],
+        rhs: Vec2,
+    },
+    /// Interior knot k's C‴ jump (see [`BandedLsq::add_knot_jump_penalty`]) from column
+    /// `first` = k − 4, before its weight: the third derivatives of the basis on the spans to its
+    /// left and right, and the length of the two together (twice their mean).
+    Jump {
+        first: usize,
+        left: [f64; 4],
+        right: [f64; 4],
+        width: f64,
+    },
+}
+
+impl Row {
+    /// The observation "the curve at `u` (in knot span `span`) is `q`", weight `w`.
+    pub(crate) fn sample(knots: &[f64], span: usize, u: f64, q: Point, w: f64) -> Row {
+        let sw = w.sqrt();
+        let b = basis_functions(knots, span, u);
+        Row::Sample {
+            first: span - DEGREE,
+            row: [b[0] * sw, b[1] * sw, b[2] * sw, b[3] * sw, 0.0],
+            rhs: q.to_vec2() * sw,
+        }
+    }
+
+    /// Interior knot `k`'s jump row; `None` for a knot that is not interior or joins an empty
+    /// span (a multiple knot).
+    pub(crate) fn jump(knots: &[f64], k: usize) -> Option<Row> {
+        let controls = knots.len().saturating_sub(DEGREE + 1);
+        if k < DEGREE + 1 || k >= controls {
+            return None;
+        }
+        let (a, m, b) = (knots[k - 1], knots[k], knots[k + 1]);
+        if !(a < m && m < b) {
+            return None;
+        }
+        Some(Row::Jump {
+            first: k - DEGREE - 1,
+            left: third_derivatives(knots, k - 1),
+            right: third_derivatives(knots, k),
+            width: b - a,
+        })
+    }
+}
+
+/// The constant third derivatives `N‴_{k−3..=k}` of the four basis functions on the non-empty
+/// knot span `k`: the third finite difference of the basis at four equally spaced points of the
+/// span, divided by `h³` (exact for a cubic up to rounding).
+fn third_derivatives(knots: &[f64], k: usize) -> [f64; 4] {
+    let (a, b) = (knots[k], knots[k + 1]);
+    let h = (b - a) / 3.0;
+    let v: [[f64; 4]; 4] = std::array::from_fn(|i| basis_functions(knots, k, a + h * i as f64));
+    std::array::from_fn(|j| (v[3][j] - 3.0 * v[2][j] + 3.0 * v[1][j] - v[0][j]) / (h * h * h))
 }
 
 /// The result of [`BandedLsq::solve`].

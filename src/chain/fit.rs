@@ -1,4 +1,4 @@
-use std::collections::HashSet;
+use rustc_hash::FxHashSet;
 
 use serde::{Deserialize, Serialize};
 
@@ -275,7 +275,7 @@ const NEIGHBOUR_RING: usize = 1;
 /// and those within [`NEIGHBOUR_RING`] of them. Elsewhere the chain is where the last refinement
 /// left it, at a minimum of its own residuals: moving it again costs a Jacobian and an
 /// evaluation per segment and iteration for changes far below the tolerance.
-fn changed_and_neighbours(state: &State<'_>, settled: &HashSet<SegmentKey>) -> Vec<bool> {
+fn changed_and_neighbours(state: &State<'_>, settled: &FxHashSet<SegmentKey>) -> Vec<bool> {
     let changed: Vec<bool> = (0..state.len())
         .map(|k| !settled.contains(&state.key(k)))
         .collect();
@@ -628,7 +628,7 @@ impl<'a> Fitter<'a> {
         &self,
         state: &mut State<'a>,
         options: &RefineOptions,
-        settled: &mut Option<HashSet<SegmentKey>>,
+        settled: &mut Option<FxHashSet<SegmentKey>>,
     ) {
         let active = settled
             .as_ref()

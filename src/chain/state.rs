@@ -1,8 +1,8 @@
 //! The chain as unknowns: joints (position, tangent angle) and one α per segment. Every segment
 //! is the Yoshida–Saito segment of its two joints ([`crate::lac::fit_g1`]), so any state is G1.
 
+use rustc_hash::FxHashMap;
 use std::cell::RefCell;
-use std::collections::HashMap;
 use std::rc::Rc;
 
 use crate::geom::{Point, Vec2};
@@ -90,9 +90,9 @@ pub(crate) struct Memo(Rc<RefCell<MemoTables>>);
 
 #[derive(Debug, Default)]
 struct MemoTables {
-    segments: HashMap<SegmentKey, Result<LacSegment, LacError>>,
+    segments: FxHashMap<SegmentKey, Result<LacSegment, LacError>>,
     /// By segment data, samples, chord error (bits) and the end anchors the residuals carry.
-    evaluations: HashMap<EvaluationKey, Evaluated>,
+    evaluations: FxHashMap<EvaluationKey, Evaluated>,
 }
 
 /// Signed distances of a segment's samples (the LM residuals).
