@@ -25,7 +25,7 @@
 //! region is a wedge narrower than a step.
 
 use super::band::{Band, BandCholesky};
-use super::state::{Evaluated, Joint, State, cost, model_at_feet};
+use super::state::{Evaluated, Joint, State, cost, model_at_feet, model_at_own_feet};
 use crate::geom::Vec2;
 use crate::lac::sensitivity::{Sensitivity, sensitivities};
 use crate::lac::yoshida_saito::{edge_margins, mirror};
@@ -334,7 +334,14 @@ fn jacobian(
                     .map(|c| c - range.start)
             };
             let points = state.points_of(k);
-            let model = model_at_feet(&e.segment, &points, e);
+            // The sensitivities, where the log-radius form applies; the model about the feet from
+            // the measurement itself then (the difference probes need it recomputed the way
+            // their own residuals are, see `State::sample_residuals_with`).
+            let sensitivity = sensitivities(&e.segment, &e.feet);
+            let model = sensitivity
+                .as_ref()
+                .and_then(|_| model_at_own_feet(&points, e))
+                .unwrap_or_else(|| model_at_feet(&e.segment, &points, e));
             let anchors = state.anchors(k);
             let rows = model.len() + anchors.len();
             let mut block = vec![0.0; rows * cols];
@@ -353,7 +360,7 @@ fn jacobian(
             let alpha_column = column(Unknown::Alpha(k));
             // The two angle columns and the α column: in one pass along the segment where its
             // log-radius form applies, else by differences of probe constructions.
-            let (d_theta_a, d_theta_b, d_alpha) = match sensitivities(&e.segment, &e.feet) {
+            let (d_theta_a, d_theta_b, d_alpha) = match sensitivity {
                 Some(d) => {
                     let rows = |of: fn(&Sensitivity) -> Vec2| -> Vec<f64> {
                         model

@@ -106,6 +106,9 @@ pub(crate) struct Evaluated {
     pub segment: LacSegment,
     /// Each sample's foot point, as arc length along the segment.
     pub feet: Vec<f64>,
+    /// Each sample's foot point and the unit normal there, when the distances are exact (see
+    /// [`crate::lac::Deviation::foot_points`]; empty otherwise).
+    pub foot_points: Vec<(Point, Vec2)>,
 }
 
 impl State<'_> {
@@ -257,6 +260,7 @@ impl State<'_> {
             max: d.max,
             segment,
             feet: d.feet,
+            foot_points: d.foot_points,
         }
     }
 
@@ -456,6 +460,51 @@ pub(crate) struct FootModel {
 }
 
 /// The first-order model of [`State::residuals_near`] for `segment`, row by row.
+/// The first-order model of [`model_at_feet`] for `near`'s own segment, from the foot points and
+/// normals its measurement found (no integration along the segment); `None` when it has none
+/// (see [`Evaluated::foot_points`]).
+pub(crate) fn model_at_own_feet(points: &[Point], near: &Evaluated) -> Option<Vec<FootModel>> {
+    if near.foot_points.len() != points.len() {
+        return None;
+    }
+    let length = near.segment.length();
+    Some(
+        points
+            .iter()
+            .zip(&near.feet)
+            .zip(&near.residuals)
+            .zip(&near.foot_points)
+            .map(|(((q, &foot), &r), &(point, normal))| {
+                if foot <= 0.0 || foot >= length {
+                    end_model(*q, point, r)
+                } else {
+                    FootModel {
+                        residual: r,
+                        point,
+                        direction: normal,
+                    }
+                }
+            })
+            .collect(),
+    )
+}
+
+/// The row of a foot clamped to an end at `point`: measured from the point towards the sample
+/// `q`, signed like the residual `r`.
+fn end_model(q: Point, point: Point, r: f64) -> FootModel {
+    let distance = q.distance(point);
+    let direction = if distance > 0.0 {
+        (q - point) * (1.0f64.copysign(r) / distance)
+    } else {
+        Vec2::ZERO
+    };
+    FootModel {
+        residual: distance.copysign(r),
+        point,
+        direction,
+    }
+}
+
 pub(crate) fn model_at_feet(
     segment: &LacSegment,
     points: &[Point],
@@ -470,17 +519,7 @@ pub(crate) fn model_at_feet(
         .zip(on_curve)
         .map(|(((q, &foot), &r), point)| {
             if foot <= 0.0 || foot >= old_length {
-                let distance = q.distance(point);
-                let direction = if distance > 0.0 {
-                    (*q - point) * (1.0f64.copysign(r) / distance)
-                } else {
-                    Vec2::ZERO
-                };
-                FootModel {
-                    residual: distance.copysign(r),
-                    point,
-                    direction,
-                }
+                end_model(*q, point, r)
             } else {
                 let theta = segment.theta(foot);
                 let normal = Vec2::new(-theta.sin(), theta.cos());
@@ -549,5 +588,51 @@ mod tests {
             assert!((x - y).abs() < 1e-9 * planted.length(), "{x} vs {y}");
         }
         assert!((a.segment.kappa0() - b.segment.kappa0()).abs() < 1e-9 * b.segment.kappa0().abs());
+    }
+
+    #[test]
+    fn the_model_from_the_measured_feet_is_the_integrated_one() {
+        // Samples on both sides of a spiral, some beyond its ends (feet clamped there): the
+        // foot points and normals the measurement found give the model that integrating the
+        // segment at the feet gives.
+        let planted = LacSegment::new(Point::new(3.0, 1.0), 0.5, 25.0, Some(-0.6), 0.02, 0.11)
+            .expect("segment");
+        let points: Vec<Point> = (-2..33)
+            .map(|i| {
+                let s = planted.length() * i as f64 / 30.0;
+                let clamped = s.clamp(0.0, planted.length());
+                let th = planted.theta(clamped);
+                let (sin, cos) = th.sin_cos();
+                planted.point(clamped)
+                    + Vec2::new(cos, sin) * (s - clamped)
+                    + Vec2::new(-sin, cos) * (0.05 * ((i % 5) as f64 - 2.0))
+            })
+            .collect();
+        let joints = vec![
+            Joint::free(planted.start(), planted.theta0(), JointKind::Start),
+            Joint::free(planted.end(), planted.theta1(), JointKind::End),
+        ];
+        let state = State {
+            points: &points,
+            joints,
+            alphas: vec![-0.6],
+            samples: vec![(0..points.len()).collect()],
+            max_curvature: f64::INFINITY,
+            memo: Default::default(),
+        };
+        let e = state.evaluate(0, 1e-5).expect("evaluates");
+        let own = model_at_own_feet(&points, &e).expect("exact feet");
+        let integrated = model_at_feet(&e.segment, &points, &e);
+        assert_eq!(own.len(), points.len());
+        let ends = e
+            .feet
+            .iter()
+            .filter(|&&f| f <= 0.0 || f >= e.segment.length());
+        assert!(ends.count() >= 4, "samples beyond both ends");
+        for (a, b) in own.iter().zip(&integrated) {
+            assert!((a.residual - b.residual).abs() < 1e-11 * planted.length());
+            assert!(a.point.distance(b.point) < 1e-11 * planted.length());
+            assert!((a.direction - b.direction).hypot() < 1e-11);
+        }
     }
 }

@@ -35,6 +35,12 @@ pub struct Deviation {
     pub feet: Vec<f64>,
     /// Each sample's side: +1 left of the direction of travel, −1 right (0 on it).
     pub sides: Vec<f64>,
+    /// Each sample's foot point on the segment and the unit normal there (left of travel),
+    /// where every distance is to an exact foot point found by Newton's method; empty where
+    /// the distances are (at least in part) a polyline's ([`rough_deviation`], or a polished
+    /// foot that fell back to the polyline's). The chain refinement linearises the distances
+    /// about them without integrating the segment again.
+    pub foot_points: Vec<(Point, Vec2)>,
     /// The largest distance (0 without samples).
     pub max: f64,
     /// The root mean square distance (0 without samples).
@@ -124,6 +130,7 @@ pub(crate) fn deviation_near(
         distances: Vec::with_capacity(samples.len()),
         feet: Vec::with_capacity(samples.len()),
         sides: Vec::with_capacity(samples.len()),
+        foot_points: Vec::with_capacity(samples.len()),
         ..Deviation::default()
     };
     for ((q, &seed), start) in samples.iter().zip(seeds).zip(starts) {
@@ -140,6 +147,7 @@ pub(crate) fn deviation_near(
         d.distances.push(q.distance(foot.p));
         d.feet.push(foot.s);
         d.sides.push(foot.side(segment, *q));
+        d.foot_points.push((foot.p, foot.normal?));
     }
     Some(summarise(d))
 }
@@ -157,6 +165,7 @@ pub(crate) fn marched(segment: &LacSegment, samples: &[Point]) -> Option<Deviati
         distances: Vec::with_capacity(samples.len()),
         feet: Vec::with_capacity(samples.len()),
         sides: Vec::with_capacity(samples.len()),
+        foot_points: Vec::with_capacity(samples.len()),
         ..Deviation::default()
     };
     let (mut s, mut p) = (0.0, segment.start());
@@ -179,6 +188,7 @@ pub(crate) fn marched(segment: &LacSegment, samples: &[Point]) -> Option<Deviati
         d.distances.push(q.distance(foot.p));
         d.feet.push(foot.s);
         d.sides.push(foot.side(segment, *q));
+        d.foot_points.push((foot.p, foot.normal?));
         (s, p) = (foot.s, foot.p);
         previous = Some(*q);
     }
@@ -212,6 +222,7 @@ fn polish_feet(
     chord_error: f64,
     d: &mut Deviation,
 ) {
+    let mut exact = Vec::with_capacity(samples.len());
     for (i, q) in samples.iter().enumerate() {
         let start = point_near(segment, polyline, d.feet[i]);
         // Unsettled (a non-positive slope, or the step budget spent): the distance check below
@@ -227,8 +238,16 @@ fn polish_feet(
             d.distances[i] = distance;
             d.feet[i] = foot.s;
             d.sides[i] = foot.side(segment, *q);
+            if let Some(normal) = foot.normal {
+                exact.push((foot.p, normal));
+            }
         }
     }
+    d.foot_points = if exact.len() == samples.len() {
+        exact
+    } else {
+        Vec::new()
+    };
 }
 
 /// Where [`newton_foot`] ended.
@@ -241,6 +260,8 @@ struct FootFound {
     settled: bool,
     /// The sample's side there (see [`side`]), when the iteration knew the normal at `s`.
     side: Option<f64>,
+    /// The unit normal (left of travel) at `s`, when the iteration knew it.
+    normal: Option<Vec2>,
 }
 
 impl FootFound {
@@ -280,6 +301,7 @@ fn newton_foot(
             p,
             settled,
             side: Some((-across).signum()),
+            normal: Some(Vec2::new(-sin, cos)),
         };
         // At an end with the sample beyond it, the distance grows into the segment: the end is
         // the (constrained) foot, whatever the curvature there.
@@ -302,6 +324,7 @@ fn newton_foot(
         p,
         settled: false,
         side: None,
+        normal: None,
     }
 }
 
