@@ -416,8 +416,7 @@ impl<'a> Fitter<'a> {
                 unreachable_above,
                 ..self.span_options()
             },
-        );
-        let fit = fit?;
+        )?;
         // Arcs and lines have no α: any value reproduces them; keep the range's middle.
         let alpha = fit.segment.alpha().unwrap_or(self.options.alpha.middle());
         Ok(Searched {
