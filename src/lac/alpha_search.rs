@@ -70,15 +70,15 @@ pub const SEED_ALPHA_TOLERANCE: f64 = 0.3;
 /// whole grid.
 const FEASIBLE_TOWARDS: f64 = 0.5;
 
-/// Where the guess cannot join the data, the first α on the way to [`FEASIBLE_TOWARDS`] that
-/// can stands in for it, and the limits [`SpanFitOptions::abandon_above`] and
-/// [`SpanFitOptions::unreachable_above`] apply there multiplied by this: that α sits at the edge
-/// of the drawable interval, farther from the search's answer than a guess usually is. Over the
-/// fixture strokes up to 600 samples at three tolerances (108 fits), with the merges' limits:
-/// 6 % fewer instructions on the median stroke, 2 222 segments against 2 221 and the same rms
-/// distance (at the guess's own limits: 2 232 segments; merged segments missing by up to 27
-/// tolerances were searched to the end before).
-const WALKED_ABANDON: f64 = 2.0;
+/// Where the guess cannot join the data, the first α on the way to α = 0.5
+/// (`FEASIBLE_TOWARDS`) that can stands in for it, and the limits
+/// [`SpanFitOptions::abandon_above`] and [`SpanFitOptions::unreachable_above`] apply there
+/// multiplied by this: that α sits at the edge of the drawable interval, farther from the
+/// search's answer than a guess usually is. Over the fixture strokes up to 600 samples at three
+/// tolerances (108 fits), with the merges' limits: 6 % fewer instructions on the median stroke,
+/// 2 222 segments against 2 221 and the same rms distance (at the guess's own limits: 2 232
+/// segments; merged segments missing by up to 27 tolerances were searched to the end before).
+pub const WALKED_ABANDON: f64 = 2.0;
 
 /// Evaluation budget of the Brent stage (it converges in 10–20 on smooth objectives).
 const MAX_BRENT_EVALUATIONS: usize = 40;
