@@ -88,6 +88,22 @@ const EDGE_MARGIN: f64 = 1e-5;
 /// is invariant under scaling).
 const MARGIN_POSITION_STEP: f64 = 1e-7;
 
+/// Longest segment a refinement step may make, as a multiple of the chain's scale (the length
+/// of its joints' polyline when the refinement starts). The squared distances do not see a
+/// segment's length: a joint with one or two samples nearby can leave through a loop that
+/// still passes by them, and a step did so (a fixed-α chain moved a joint 1.8e12 away from a
+/// 700-pixel stroke through two segments of length 9e13 and 1.8e12 whose loops met samples 50
+/// and 51, and the export of such a segment never ended). No fitted segment comes near it.
+const MAX_LENGTH_FACTOR: f64 = 10.0;
+
+/// Whether every segment of an evaluated trial is at most [`MAX_LENGTH_FACTOR`] times the
+/// chain's scale long.
+fn bounded(evaluated: &[Evaluated], options: &RefineOptions) -> bool {
+    evaluated
+        .iter()
+        .all(|e| e.segment.length() <= MAX_LENGTH_FACTOR * options.scale)
+}
+
 /// One unknown.
 #[derive(Clone, Copy, Debug, PartialEq)]
 enum Unknown {
@@ -250,7 +266,7 @@ pub(crate) fn refine(
                 add(&mut trial, u, -delta[c], options);
             }
             match trial.evaluate_all_from(options.chord_error, state, &current, unbuildable) {
-                Ok(e) if cost(&e) < current_cost => {
+                Ok(e) if cost(&e) < current_cost && bounded(&e, options) => {
                     let new_cost = cost(&e);
                     let decrease = (current_cost - new_cost) / current_cost;
                     let rms_gain = ((current_cost / rows).sqrt() - (new_cost / rows).sqrt())
