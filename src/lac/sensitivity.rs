@@ -188,11 +188,14 @@ impl LogRadiusShape {
 
 /// The derivatives of `segment`'s points at the arc lengths `feet` with respect to its start and
 /// end tangent angles and its α, both end points held (see the module documentation); zero at
-/// feet on or beyond an end (the end points are held). `None` where the log-radius form does not
-/// apply or is ill-conditioned (arcs and lines, a κ = 0 end, log curvature ratios outside
-/// [[`MIN_LOG_RATIO`], [`MAX_LOG_RATIO`]]): the caller then differences constructions.
+/// feet on or beyond an end (the end points are held). Circular arcs by [`arc_sensitivities`].
+/// `None` where the log-radius form does not apply or is ill-conditioned (lines, a κ = 0 end, log
+/// curvature ratios outside [[`MIN_LOG_RATIO`], [`MAX_LOG_RATIO`]]): the caller then differences
+/// constructions.
 pub(crate) fn sensitivities(segment: &LacSegment, feet: &[f64]) -> Option<Vec<Sensitivity>> {
-    let alpha = segment.alpha()?;
+    let Some(alpha) = segment.alpha() else {
+        return arc_sensitivities(segment, feet);
+    };
     let (k0, k1) = (segment.kappa0().abs(), segment.kappa1().abs());
     let curling = k1 > k0;
     let (k_high, k_low) = if curling { (k1, k0) } else { (k0, k1) };
@@ -299,6 +302,120 @@ pub(crate) fn sensitivities(segment: &LacSegment, feet: &[f64]) -> Option<Vec<Se
         .then_some(out)
 }
 
+/// [`sensitivities`] for a circular arc (κ0 = κ1 ≠ 0, no α).
+///
+/// Every α draws the arc, so ∂P/∂α = 0. Turning an end tangent makes the data slightly
+/// asymmetric, and the segment a spiral with a small log curvature ratio; to first order in it,
+/// ln κ is linear in the arc length whatever α is (ρ^α linear in s gives
+/// ln ρ = ln ρ0 + q·s/S + O(q²)). So, with x = s/S ∈ [0, 1], θ(x) = θ0 + θ_T·x on the arc, the
+/// turned segment has
+///
+/// dθ(x) = dτ_A + u·x − v·(x² − x),   u = dτ_B − dτ_A,
+///
+/// (u the change of the turning, v that of the curvature's slope) and length S + dS. (A line has
+/// no such family: turning one of its tangents asks for an inflection, which no LAC draws, and
+/// the caller's probes then see no segment at all.) Holding the
+/// end, with I_k = J_k(1) and J_k(x) = ∫₀ˣ t^k·e^{iθ(t)} dt,
+///
+/// dS·I₀ + i·S·(dτ_A·I₀ + u·I₁ − v·(I₂ − I₁)) = 0,
+///
+/// two real equations for dS and v (their determinant tends to S²/6 as θ_T → 0), and at a fixed x
+///
+/// dP(x) = dS·J₀(x) + i·S·(dτ_A·J₀(x) + u·J₁(x) − v·(J₂(x) − J₁(x))).
+///
+/// The moments come from one pass of 3-point Gauss–Legendre panels through the feet in order,
+/// each turning at most [`PANEL_TURN`]. `None` for a line, a segment without length or a
+/// singular system.
+fn arc_sensitivities(segment: &LacSegment, feet: &[f64]) -> Option<Vec<Sensitivity>> {
+    let length = segment.length();
+    if !(length > 0.0 && segment.kappa0() != 0.0) {
+        return None;
+    }
+    let theta0 = segment.theta0();
+    let turn = segment.theta1() - theta0;
+    let mut panels = 0;
+    // [J₀, J₁, J₂] over [a, b].
+    let mut moments = |a: f64, b: f64| -> Option<[Vec2; 3]> {
+        let n = ((turn.abs() * (b - a) / PANEL_TURN).ceil() as usize).max(1);
+        panels += n;
+        if panels > MAX_PANELS {
+            return None;
+        }
+        let (step, half) = ((b - a) / n as f64, 0.5 * (b - a) / n as f64);
+        let (w0, w1, x1) = GAUSS_LEGENDRE_3;
+        let mut sum = [Vec2::ZERO; 3];
+        for k in 0..n {
+            let mid = a + step * (k as f64 + 0.5);
+            for (x, w) in [(mid - half * x1, w1), (mid, w0), (mid + half * x1, w1)] {
+                let e = cis(theta0 + turn * x) * (w * half);
+                sum[0] += e;
+                sum[1] += e * x;
+                sum[2] += e * (x * x);
+            }
+        }
+        Some(sum)
+    };
+    let mut interior: Vec<(f64, usize)> = feet
+        .iter()
+        .enumerate()
+        .filter(|&(_, &s)| s > 0.0 && s < length)
+        .map(|(i, &s)| (s / length, i))
+        .collect();
+    interior.sort_by(|a, b| a.0.total_cmp(&b.0));
+    let mut at = vec![[Vec2::ZERO; 3]; feet.len()];
+    let mut sum = [Vec2::ZERO; 3];
+    let mut from = 0.0;
+    for &(x, i) in &interior {
+        for (s, p) in sum.iter_mut().zip(moments(from, x)?) {
+            *s += p;
+        }
+        at[i] = sum;
+        from = x;
+    }
+    for (s, p) in sum.iter_mut().zip(moments(from, 1.0)?) {
+        *s += p;
+    }
+    let [i0, i1, i2] = sum;
+    let times_i = |v: Vec2| Vec2::new(-v.y, v.x);
+    // dS·I₀ + v·W = R, W = −i·S·(I₂ − I₁), R = −i·S·(dτ_A·I₀ + u·I₁), by Cramer's rule.
+    let w = times_i(i2 - i1) * -length;
+    let det = i0.x * w.y - i0.y * w.x;
+    if !(det.abs() > 0.0 && det.is_finite()) {
+        return None;
+    }
+    let column = |d_start: f64, d_end: f64| -> Vec<Vec2> {
+        let u = d_end - d_start;
+        let r = times_i(i0 * d_start + i1 * u) * -length;
+        let ds = (r.x * w.y - r.y * w.x) / det;
+        let v = (i0.x * r.y - i0.y * r.x) / det;
+        feet.iter()
+            .zip(&at)
+            .map(|(&s, [j0, j1, j2])| {
+                if !(s > 0.0 && s < length) {
+                    return Vec2::ZERO;
+                }
+                *j0 * ds + times_i(*j0 * d_start + *j1 * u - (*j2 - *j1) * v) * length
+            })
+            .collect()
+    };
+    let out: Vec<Sensitivity> = column(1.0, 0.0)
+        .into_iter()
+        .zip(column(0.0, 1.0))
+        .map(|(start_angle, end_angle)| Sensitivity {
+            start_angle,
+            end_angle,
+            alpha: Vec2::ZERO,
+        })
+        .collect();
+    out.iter()
+        .all(|d| {
+            [d.start_angle, d.end_angle]
+                .iter()
+                .all(|v| v.x.is_finite() && v.y.is_finite())
+        })
+        .then_some(out)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -334,11 +451,31 @@ mod tests {
         }
     }
 
+    #[test]
+    fn arc_sensitivities_match_differences_of_constructions() {
+        // Every α draws an arc; the turned data's first-order shape is the same for all of them
+        // (checked with the differences of three α), turning 0.25 to 2.5 rad either way.
+        for kappa in [0.05, -0.05, 0.1, -0.01] {
+            let segment =
+                LacSegment::new(Point::new(3.0, 1.0), 0.4, 25.0, None, kappa, kappa).expect("arc");
+            for alpha in [-1.0, 0.5, 2.0] {
+                check_with(&segment, alpha);
+            }
+        }
+        // A line has no first-order family (see `arc_sensitivities`): left to the caller.
+        let line = LacSegment::new(Point::new(3.0, 1.0), 0.4, 25.0, None, 0.0, 0.0).expect("line");
+        assert!(sensitivities(&line, &[5.0, 12.0]).is_none());
+    }
+
     fn check(segment: &LacSegment) {
+        check_with(segment, segment.alpha().expect("spiral"));
+    }
+
+    /// [`check`] with the constructions of `alpha`.
+    fn check_with(segment: &LacSegment, alpha: f64) {
         let length = segment.length();
         let feet: Vec<f64> = (0..=10).map(|i| length * i as f64 / 10.0).collect();
         let got = sensitivities(segment, &feet).expect("applies");
-        let alpha = segment.alpha().expect("spiral");
         let (a, b) = (segment.start(), segment.end());
         let build = |ta: f64, tb: f64, alpha: f64| {
             fit_g1(
