@@ -76,9 +76,31 @@ fn alpha_can_be_fixed_or_limited_and_svg_and_dxf_written() {
     );
     let doc =
         kansei::export::CurveFile::from_json(&String::from_utf8_lossy(&out.stdout)).expect("valid");
+    // The joints stay by the samples: within the samples' bounding box grown by its diagonal (a
+    // refinement step once sent one 1.8e12 away through loops that each met one sample).
+    let file = kansei::stroke::StrokeFile::from_json(
+        &std::fs::read_to_string(fixture("perfect-freehand-waves")).expect("fixture"),
+    )
+    .expect("valid");
+    let samples = file.strokes.iter().flat_map(|s| &s.samples);
+    let (mut lo, mut hi) = ([f64::INFINITY; 2], [f64::NEG_INFINITY; 2]);
+    for p in samples {
+        (lo[0], lo[1]) = (lo[0].min(p.x), lo[1].min(p.y));
+        (hi[0], hi[1]) = (hi[0].max(p.x), hi[1].max(p.y));
+    }
+    let margin = (hi[0] - lo[0]).hypot(hi[1] - lo[1]);
     for s in doc.curves.iter().flat_map(|c| &c.segments) {
         // Clothoids only (null α: a circular arc or line, which any α reproduces).
         assert!(s.alpha.is_none_or(|a| a == -1.0), "alpha {:?}", s.alpha);
+        for [x, y] in [s.start, s.end] {
+            assert!(
+                x >= lo[0] - margin
+                    && x <= hi[0] + margin
+                    && y >= lo[1] - margin
+                    && y <= hi[1] + margin,
+                "a joint at ({x}, {y}) far from the samples"
+            );
+        }
     }
     let text = std::fs::read_to_string(&svg).expect("svg written");
     assert!(text.starts_with("<?xml") || text.starts_with("<svg"));
