@@ -39,7 +39,8 @@ pub(crate) struct RefineOptions {
     pub alpha_range: Option<(f64, f64)>,
     /// Chord error of the tracing that seeds the foot points.
     pub chord_error: f64,
-    /// Length scale of the chain (for finite-difference steps on positions).
+    /// Length scale of the chain: the finite-difference steps on positions and the bound on a
+    /// segment's length ([`MAX_LENGTH_FACTOR`]) are relative to it.
     pub scale: f64,
     /// The fit's tolerance (a distance): an iteration that moves the rms sample distance by less
     /// than [`CONVERGED_RMS`] of it has converged.
@@ -88,12 +89,14 @@ const EDGE_MARGIN: f64 = 1e-5;
 /// is invariant under scaling).
 const MARGIN_POSITION_STEP: f64 = 1e-7;
 
-/// Longest segment a refinement step may make, as a multiple of the chain's scale (the length
-/// of its joints' polyline when the refinement starts). The squared distances do not see a
-/// segment's length: a joint with one or two samples nearby can leave through a loop that
-/// still passes by them, and a step did so (a fixed-α chain moved a joint 1.8e12 away from a
-/// 700-pixel stroke through two segments of length 9e13 and 1.8e12 whose loops met samples 50
-/// and 51, and the export of such a segment never ended). No fitted segment comes near it.
+/// Longest segment a refinement step may make, as a multiple of the chain's scale
+/// ([`RefineOptions::scale`]: the length of its joints' polyline when the chain's refinements
+/// are set up). The squared distances do not see a segment's length: a joint with one or two
+/// samples nearby can leave through a loop that still passes by them, and a step did so (a
+/// fixed-α chain moved a joint 1.8e12 away from a 700-pixel stroke through two segments of
+/// length 9e13 and 1.8e12 whose loops met samples 50 and 51, and the export of such a segment
+/// never ended). Over the fixture strokes up to 600 samples it turns down a step or two (the
+/// mean rms distance moves from 0.2328 to 0.2329 of the tolerance).
 const MAX_LENGTH_FACTOR: f64 = 10.0;
 
 /// Whether every segment of an evaluated trial is at most [`MAX_LENGTH_FACTOR`] times the

@@ -459,7 +459,6 @@ pub(crate) struct FootModel {
     pub direction: Vec2,
 }
 
-/// The first-order model of [`State::residuals_near`] for `segment`, row by row.
 /// The first-order model of [`model_at_feet`] for `near`'s own segment, from the foot points and
 /// normals its measurement found (no integration along the segment); `None` when it has none
 /// (see [`Evaluated::foot_points`]).
@@ -505,6 +504,7 @@ fn end_model(q: Point, point: Point, r: f64) -> FootModel {
     }
 }
 
+/// The first-order model of [`State::residuals_near`] for `segment`, row by row.
 pub(crate) fn model_at_feet(
     segment: &LacSegment,
     points: &[Point],
