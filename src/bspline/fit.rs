@@ -505,19 +505,7 @@ pub fn least_squares(
     weights: &[f64],
     knots: Vec<f64>,
 ) -> Result<BSpline, FitError> {
-    penalised_least_squares(points, params, weights, knots, 0.0, (None, None))
-}
-
-/// [`least_squares`] plus the fairness term `jump_weight · Σₖ hₖ‖C‴(tₖ⁺) − C‴(tₖ⁻)‖²`.
-fn penalised_least_squares(
-    points: &[Point],
-    params: &[f64],
-    weights: &[f64],
-    knots: Vec<f64>,
-    jump_weight: f64,
-    ends: (Option<Point>, Option<Point>),
-) -> Result<BSpline, FitError> {
-    Design::new(points, params, weights, knots, jump_weight > 0.0, ends)?.solve(jump_weight)
+    Design::new(points, params, weights, knots, false, (None, None))?.solve(0.0)
 }
 
 /// The rows of a (penalised) least-squares system with fixed knots and sample parameters, in
@@ -575,7 +563,9 @@ impl Design {
         })
     }
 
-    /// The curve of least weighted squares plus `jump_weight` times the jump energy.
+    /// The curve of least weighted squares plus the fairness term
+    /// `jump_weight · Σₖ hₖ‖C‴(tₖ⁺) − C‴(tₖ⁻)‖²` (the jump rows are there only when the design
+    /// was made `jumps`).
     fn solve(&self, jump_weight: f64) -> Result<BSpline, FitError> {
         let n_ctrl = self.knots.len().saturating_sub(DEGREE + 1);
         let mut lsq = BandedLsq::new(&self.knots);
@@ -615,14 +605,15 @@ fn fit_segments(
     let mut curve;
     let mut pass = 0;
     loop {
-        curve = penalised_least_squares(
+        curve = Design::new(
             points,
             &params,
             weights,
             knots.clone(),
-            0.0,
+            false,
             (options.start, options.end),
-        )?;
+        )?
+        .solve(0.0)?;
         let pieces = Pieces::new(curve.to_beziers());
         feet.clear();
         feet.extend(

@@ -226,29 +226,14 @@ pub(crate) fn sensitivities(segment: &LacSegment, feet: &[f64]) -> Option<Vec<Se
     };
     let length = segment.length();
     // Interior feet by w.
-    let mut interior: Vec<(f64, usize)> = feet
-        .iter()
-        .enumerate()
-        .filter(|&(_, &s)| s > 0.0 && s < length)
-        .map(|(i, &s)| ((k_high / segment.kappa(s).abs()).ln().clamp(0.0, q), i))
-        .collect();
-    interior.sort_by(|a, b| a.0.total_cmp(&b.0));
-    let mut at = vec![[Vec2::ZERO; 4]; feet.len()];
-    let mut sum = [Vec2::ZERO; 4];
-    let (mut from, mut panels) = (0.0, 0);
-    for &(w, i) in &interior {
-        let part = shape.integrate(from, w, &mut panels)?;
-        for (s, p) in sum.iter_mut().zip(part) {
-            *s += p;
-        }
-        at[i] = sum;
-        from = w;
-    }
-    let part = shape.integrate(from, q, &mut panels)?;
-    let mut end = sum;
-    for (s, p) in end.iter_mut().zip(part) {
-        *s += p;
-    }
+    let mut panels = 0;
+    let (at, end) = integrals_at_feet(
+        feet,
+        length,
+        |s| (k_high / segment.kappa(s).abs()).ln().clamp(0.0, q),
+        q,
+        |a, b| shape.integrate(a, b, &mut panels),
+    )?;
     let [f_q, f_theta_t, mut f_q_q, f_alpha] = end;
     f_q_q += cis(theta_t) * (alpha * q).exp();
     let slope = |d: Vec2| cdiv(d, f_q).y;
@@ -300,6 +285,39 @@ pub(crate) fn sensitivities(segment: &LacSegment, feet: &[f64]) -> Option<Vec<Se
                 .all(|v| v.x.is_finite() && v.y.is_finite())
         })
         .then_some(out)
+}
+
+/// Integrals from 0 to each interior foot (`at`, zero for feet on or beyond an end) and to `top`
+/// (`end`), in one pass through the feet in order of their variable `position(s)`;
+/// `integrate(a, b)` gives the integrals over [a, b] (`None` ends the pass).
+fn integrals_at_feet<const N: usize>(
+    feet: &[f64],
+    length: f64,
+    position: impl Fn(f64) -> f64,
+    top: f64,
+    mut integrate: impl FnMut(f64, f64) -> Option<[Vec2; N]>,
+) -> Option<(Vec<[Vec2; N]>, [Vec2; N])> {
+    let mut interior: Vec<(f64, usize)> = feet
+        .iter()
+        .enumerate()
+        .filter(|&(_, &s)| s > 0.0 && s < length)
+        .map(|(i, &s)| (position(s), i))
+        .collect();
+    interior.sort_by(|a, b| a.0.total_cmp(&b.0));
+    let mut at = vec![[Vec2::ZERO; N]; feet.len()];
+    let mut sum = [Vec2::ZERO; N];
+    let mut from = 0.0;
+    for &(x, i) in &interior {
+        for (s, p) in sum.iter_mut().zip(integrate(from, x)?) {
+            *s += p;
+        }
+        at[i] = sum;
+        from = x;
+    }
+    for (s, p) in sum.iter_mut().zip(integrate(from, top)?) {
+        *s += p;
+    }
+    Some((at, sum))
 }
 
 /// [`sensitivities`] for a circular arc (κ0 = κ1 ≠ 0, no α).
@@ -355,27 +373,7 @@ fn arc_sensitivities(segment: &LacSegment, feet: &[f64]) -> Option<Vec<Sensitivi
         }
         Some(sum)
     };
-    let mut interior: Vec<(f64, usize)> = feet
-        .iter()
-        .enumerate()
-        .filter(|&(_, &s)| s > 0.0 && s < length)
-        .map(|(i, &s)| (s / length, i))
-        .collect();
-    interior.sort_by(|a, b| a.0.total_cmp(&b.0));
-    let mut at = vec![[Vec2::ZERO; 3]; feet.len()];
-    let mut sum = [Vec2::ZERO; 3];
-    let mut from = 0.0;
-    for &(x, i) in &interior {
-        for (s, p) in sum.iter_mut().zip(moments(from, x)?) {
-            *s += p;
-        }
-        at[i] = sum;
-        from = x;
-    }
-    for (s, p) in sum.iter_mut().zip(moments(from, 1.0)?) {
-        *s += p;
-    }
-    let [i0, i1, i2] = sum;
+    let (at, [i0, i1, i2]) = integrals_at_feet(feet, length, |s| s / length, 1.0, &mut moments)?;
     let times_i = |v: Vec2| Vec2::new(-v.y, v.x);
     // dS·I₀ + v·W = R, W = −i·S·(I₂ − I₁), R = −i·S·(dτ_A·I₀ + u·I₁), by Cramer's rule.
     let w = times_i(i2 - i1) * -length;
