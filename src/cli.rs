@@ -670,20 +670,21 @@ fn fit(args: &FitArgs, out: &mut dyn std::io::Write) -> Result<(), CliError> {
                 layer("splits"),
             );
             let svg = svg_document(&output, Some(&file), &options);
-            write_atomic(&target(input, path, "svg"), svg.svg.as_bytes())?;
+            let path = target(input, path, "svg");
+            warn_beyond_accuracy(&path, svg.max_error(), svg.accuracy);
+            write_atomic(&path, svg.svg.as_bytes())?;
         }
         if let Some(path) = &args.dxf {
             let path = target(input, path, "dxf");
             let options = DxfOptions {
                 accuracy: args.export_accuracy,
             };
-            let bytes =
-                dxf_drawing(&output, &options)
-                    .to_bytes()
-                    .map_err(|e| CliError::Export {
-                        path: path.clone(),
-                        message: e.to_string(),
-                    })?;
+            let dxf = dxf_drawing(&output, &options);
+            warn_beyond_accuracy(&path, dxf.max_error(), dxf.accuracy);
+            let bytes = dxf.to_bytes().map_err(|e| CliError::Export {
+                path: path.clone(),
+                message: e.to_string(),
+            })?;
             write_atomic(&path, &bytes)?;
         }
         if let Some(path) = &args.png {
@@ -730,6 +731,18 @@ fn quick_look_png(
     let bounds = scene_bounds(&scene).unwrap_or_default();
     let view = View::fit(bounds, width, height, PNG_MARGIN_PX);
     render_png(&scene, &view, &RenderOptions::default())
+}
+
+/// Says on stderr when an export's measured error exceeds the accuracy asked for (a segment
+/// beyond the exporter's work bounds; see [`crate::export::segment_beziers`]): the file is still
+/// written, and states each segment's error.
+fn warn_beyond_accuracy(path: &Path, error: f64, accuracy: f64) {
+    if error > accuracy {
+        eprintln!(
+            "warning: {}: largest export error {error:.4e} exceeds the accuracy {accuracy:.4e}",
+            path.display()
+        );
+    }
 }
 
 /// Writes through a temporary file and a rename, so a reader never sees half a file; a device

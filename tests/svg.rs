@@ -166,6 +166,74 @@ fn a_hook_that_fools_kurbo_is_subdivided_until_measured_within_the_accuracy() {
     }
 }
 
+/// The distance from points spread along `segment` to the nearest of `cubics`: what a reader of
+/// the cubics sees of the segment, measured without the exporter's own polyline.
+fn worst_miss(segment: &LacSegment, cubics: &[kurbo::CubicBez]) -> f64 {
+    use kurbo::ParamCurveNearest;
+    const POINTS: f64 = 2000.0;
+    segment
+        .samples(segment.length() / POINTS)
+        .map(|x| {
+            cubics
+                .iter()
+                .map(|c| c.nearest(x.point, 1e-9).distance_sq)
+                .fold(f64::INFINITY, f64::min)
+                .sqrt()
+        })
+        .fold(0.0, f64::max)
+}
+
+#[test]
+fn pathological_segments_end_with_bounded_work_and_an_honest_error() {
+    use kansei::export::{MAX_FIT_STEPS_PER_SEGMENT, MAX_PARTS_PER_SEGMENT};
+    let cases = [
+        // A clothoid of 80 000 turns (κ 0 → 1000 over 1000 units) at a thousandth of a unit.
+        (
+            seg(Point::new(0.0, 0.0), 0.0, 1000.0, Some(-1.0), 0.0, 1000.0),
+            1e-3,
+        ),
+        // A logarithmic spiral 10¹⁴ accuracies long, curling from radius 10⁸ to 10⁻⁴.
+        (
+            seg(Point::new(5.0, 5.0), 0.3, 1e11, Some(1.0), 1e-8, 1e4),
+            1e-3,
+        ),
+        // A circle wound 1.6·10¹² times.
+        (seg(Point::new(0.0, 1.0), 0.0, 1e13, None, 1.0, 1.0), 1e-3),
+        // A gentle spiral far from the origin, asked for an accuracy finer than f64 places its
+        // points there (their spacing is about 1e-7).
+        (
+            seg(Point::new(1e9, -1e9), 2.0, 50.0, Some(0.0), 0.01, 0.02),
+            1e-12,
+        ),
+    ];
+    // Every cubic ends a range of kurbo's or of the exporter's halving: one per step spent, one
+    // more per range a step left unsplit, and one per part.
+    let most_cubics = 3 * MAX_FIT_STEPS_PER_SEGMENT + MAX_PARTS_PER_SEGMENT;
+    for (segment, accuracy) in cases {
+        let fit = segment_beziers(&segment, accuracy);
+        assert!(!fit.cubics.is_empty() && fit.cubics.len() <= most_cubics);
+        assert!(fit.error.is_finite() && fit.error > 0.0);
+        // Joined end to end from the exact start to the exact end.
+        assert_eq!(fit.cubics[0].p0, segment.start());
+        assert_eq!(fit.cubics[fit.cubics.len() - 1].p3, segment.end());
+        for w in fit.cubics.windows(2) {
+            assert_eq!(w[0].p3, w[1].p0);
+        }
+        // The stated error is honest: no point of the segment is farther from the cubics.
+        let miss = worst_miss(&segment, &fit.cubics);
+        assert!(
+            miss <= fit.error * (1.0 + 1e-9),
+            "{segment:?}: missed by {miss}, stated {}",
+            fit.error
+        );
+    }
+    // The accuracy beyond f64's reach is raised to what it can reach (256 ulps of 1.4e9), and
+    // the spiral is fitted to that, not given up on.
+    let far = cases[3].0;
+    let fit = segment_beziers(&far, 1e-12);
+    assert!(fit.error <= 256.0 * f64::EPSILON * 1.5e9, "{}", fit.error);
+}
+
 #[test]
 fn long_arcs_are_cut_into_quarter_turns() {
     for turns in [0.1, 0.25, 0.26, 0.5, 0.99, 1.0, 1.7] {
@@ -179,6 +247,39 @@ fn long_arcs_are_cut_into_quarter_turns() {
         assert_eq!(pieces.len(), n.max(1));
         let error = two_sided_distance(&arc, &pieces);
         assert!(error <= 1e-9 * length, "{turns} turns: {error}");
+    }
+}
+
+#[test]
+fn an_arc_winding_many_times_is_one_circle_and_the_rest() {
+    let kappa: f64 = 0.5;
+    let (r, theta0, start) = (1.0 / kappa, 0.7_f64, Point::new(2.0, -1.0));
+    let centre = start + kurbo::Vec2::new(-theta0.sin(), theta0.cos()) * r;
+    for turns in [1.0, 1.25, 2.5, 3.0, 1e6 + 0.6, 1.6e12] {
+        let length = turns * std::f64::consts::TAU / kappa;
+        let arc = seg(start, theta0, length, None, kappa, kappa);
+        let (d, reports) = chain_path_data(&[arc], 0.01);
+        let rest = (turns - turns.floor()) * 4.0;
+        let expected = 4 + if rest > 1e-9 { rest.ceil() as usize } else { 0 };
+        assert_eq!(reports[0].commands, expected, "{turns} turns");
+        assert!(reports[0].commands <= 8);
+        let pieces = parse_path(&d);
+        assert_eq!(pieces.len(), expected);
+        // Every command is an arc of the segment's circle, and the path ends at its end; to the
+        // rounding of the segment's own points, whose angle κ·s rounds by an ulp of the turning
+        // (a thousandth of a radian at 10¹³ radians).
+        let tolerance = (1e-9_f64).max(16.0 * f64::EPSILON * turns * std::f64::consts::TAU) * r;
+        for piece in &pieces {
+            for i in 0..=8 {
+                let p = piece.eval(f64::from(i) / 8.0);
+                assert!(
+                    (p.distance(centre) - r).abs() <= tolerance,
+                    "{turns}: {p:?}"
+                );
+            }
+        }
+        let last = pieces[pieces.len() - 1].eval(1.0);
+        assert!(last.distance(arc.end()) <= tolerance);
     }
 }
 

@@ -73,6 +73,11 @@ pub struct DxfExport {
 pub struct DxfWriteError(#[from] dxf::DxfError);
 
 impl DxfExport {
+    /// The largest measured error over every spline.
+    pub fn max_error(&self) -> f64 {
+        self.splines.iter().map(|s| s.error).fold(0.0, f64::max)
+    }
+
     /// The drawing as ASCII DXF.
     pub fn to_bytes(&self) -> Result<Vec<u8>, DxfWriteError> {
         let mut out = Vec::new();

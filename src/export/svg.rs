@@ -35,7 +35,7 @@
 
 use std::fmt::Write as _;
 
-use crate::geom::Point;
+use crate::geom::{Point, Vec2};
 use crate::lac::LacSegment;
 use crate::pipeline::FitOutput;
 use crate::stroke::{StrokeFile, Units};
@@ -366,6 +366,58 @@ fn arc_sagitta(segment: &LacSegment) -> f64 {
     2.0 * (0.25 * turning).sin().powi(2) / kappa
 }
 
+/// Units in the last place of an arc's turning κ·S within which its rest modulo a full turn
+/// counts as none (the product and the modulo round by a few).
+const ARC_TURNING_ROUNDING_ULPS: f64 = 8.0;
+
+/// Appends the `A` commands of a circular-arc segment and returns their count: arcs of at most
+/// [`MAX_ARC_TURNING`] each, evenly spaced. An arc turning a full circle or more is drawn as one
+/// full circle (four quarter turns back to its start) and then the rest of its turning modulo
+/// 2π: every further turn retraces the same circle, so the ink is the segment's and the count
+/// stays at most eight however many times the segment winds (its length is in the metadata).
+fn push_arcs(d: &mut String, segment: &LacSegment) -> usize {
+    let kappa = segment.kappa0();
+    let radius = 1.0 / kappa.abs();
+    let sweep = u8::from(kappa > 0.0);
+    let length = segment.length();
+    let turning = (kappa * length).abs();
+    let mut count = 0;
+    let arc_to = |d: &mut String, count: &mut usize, p: Point| {
+        let _ = write!(d, " A {radius} {radius} 0 0 {sweep}");
+        push_xy(d, p);
+        *count += 1;
+    };
+    let (rest, from) = if turning >= std::f64::consts::TAU {
+        let quarter = MAX_ARC_TURNING * radius;
+        for i in 1..4 {
+            arc_to(d, &mut count, segment.point(quarter * f64::from(i)));
+        }
+        let rest = turning % std::f64::consts::TAU;
+        // A rest within the turning's own rounding of 0 or of a full turn is none: the circle
+        // then closes at the segment's end.
+        let rounding = ARC_TURNING_ROUNDING_ULPS * f64::EPSILON * turning;
+        if rest <= rounding || rest >= std::f64::consts::TAU - rounding {
+            arc_to(d, &mut count, segment.end());
+            return count;
+        }
+        arc_to(d, &mut count, segment.start());
+        (rest, length - rest * radius)
+    } else {
+        (turning, 0.0)
+    };
+    // At least one arc; at most four (a rest below a full turn in quarter turns).
+    let n = ((rest / MAX_ARC_TURNING).ceil() as usize).clamp(1, 4);
+    for i in 1..=n {
+        let end = if i == n {
+            segment.end()
+        } else {
+            segment.point(from + (length - from) * i as f64 / n as f64)
+        };
+        arc_to(d, &mut count, end);
+    }
+    count
+}
+
 /// One segment's path commands (without the initial move-to), and its report.
 fn segment_commands(
     segment: &LacSegment,
@@ -390,23 +442,21 @@ fn segment_commands(
                 error: if straight { 0.0 } else { arc_sagitta(segment) },
             }
         } else if k0 == k1 {
-            let turning = (k0 * segment.length()).abs();
-            // At least one arc; the count is small (turning/quarter turn), saturating for safety.
-            let n = ((turning / MAX_ARC_TURNING).ceil() as usize).max(1);
-            let radius = 1.0 / k0.abs();
-            let sweep = u8::from(k0 > 0.0);
-            for i in 1..=n {
-                let end = if i == n {
-                    segment.end()
-                } else {
-                    segment.point(segment.length() * i as f64 / n as f64)
-                };
-                let _ = write!(d, " A {radius} {radius} 0 0 {sweep}");
-                push_xy(&mut d, end);
-            }
+            let n = push_arcs(&mut d, segment);
             let chord = LAC_CHORD_ERROR_FRACTION * pad;
-            for s in segment.samples(lac_spacing(segment, chord)) {
-                bounds.add(s.point, pad + chord);
+            if (k0 * segment.length()).abs() >= std::f64::consts::TAU {
+                // The whole circle is drawn: its box bounds the ink.
+                let r = 1.0 / k0;
+                let c = segment.start()
+                    + Vec2::new(-segment.theta0().sin(), segment.theta0().cos()) * r;
+                bounds.add_rect(
+                    Rect::new(c.x - r.abs(), c.y - r.abs(), c.x + r.abs(), c.y + r.abs()),
+                    pad,
+                );
+            } else {
+                for s in segment.samples(lac_spacing(segment, chord)) {
+                    bounds.add(s.point, pad + chord);
+                }
             }
             SvgSegmentReport {
                 element: SvgElement::Arc,
