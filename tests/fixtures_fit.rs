@@ -57,3 +57,45 @@ fn every_fixture_stroke_fits_within_its_tolerance() {
     }
     assert!(strokes >= 30, "only {strokes} fixture strokes");
 }
+
+/// What is dropped at a stroke's ends is small: a hook (a flick no longer than
+/// `hook_length` along the stroke) and a dwell (tremor within `radius` of a centroid the kept
+/// end lies near), so every dropped sample lies within their sum plus a dwell's diameter of
+/// the nearest kept end sample. The drawing itself is never dropped.
+#[test]
+fn only_hooks_and_dwell_are_dropped_at_the_ends() {
+    use kansei::prepare::{CornerOptions, DwellOptions};
+    let mut dropped = 0;
+    for name in common::fixture_names() {
+        let file = common::fixture(&name);
+        let tol = file.units.default_tolerance();
+        let reach = CornerOptions::for_tolerance(tol).hook_length
+            + 3.0 * DwellOptions::for_tolerance(tol).radius;
+        let out =
+            fit_file(&file, &PipelineOptions::splits_only().with_tolerance(tol)).expect("fit");
+        for (k, stroke) in file.strokes.iter().enumerate() {
+            let pieces: Vec<_> = out.curves.iter().filter(|c| c.stroke == k).collect();
+            let (Some(first), Some(last)) = (pieces.first(), pieces.last()) else {
+                continue;
+            };
+            let (a, b) = (first.samples.0, last.samples.1);
+            let ends = [stroke.samples[a].point(), stroke.samples[b].point()];
+            for (i, s) in stroke.samples.iter().enumerate() {
+                if i >= a && i <= b {
+                    continue;
+                }
+                dropped += 1;
+                let end = if i < a { ends[0] } else { ends[1] };
+                let d = s.point().distance(end);
+                assert!(
+                    d <= reach,
+                    "{name} stroke {k}: sample {i} dropped {d} from the kept end (samples {a}..={b})"
+                );
+            }
+        }
+    }
+    assert!(
+        dropped > 0,
+        "no fixture drops anything: the check checks nothing"
+    );
+}

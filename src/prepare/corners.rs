@@ -24,6 +24,12 @@ pub struct CornerOptions {
     /// Fraction of the stroke's arc length at each end where a sharp turn is a hook, not a
     /// corner. Default 0.08.
     pub hook_fraction: f64,
+    /// Longest end part dropped as a hook, in the stroke's units: the end zone is the shorter of
+    /// this and [`CornerOptions::hook_fraction`] of the stroke. Default [`HOOK_WINDOWS`] ×
+    /// [`CornerOptions::window`] (40 tolerances: 4 mm at the default 0.1 mm). A pen's landing
+    /// or lifting flick is a few millimetres at most; a sharp turn farther from the end starts
+    /// or ends a leg the designer drew, which is cut there as a corner and kept.
+    pub hook_length: f64,
     /// Turning angle (degrees) above which a turn in the end zone is a hook. Default 45°: hooks
     /// are small, so their turning is spread over a window and measures less than a corner's.
     pub hook_angle: f64,
@@ -38,6 +44,7 @@ impl CornerOptions {
             drop_hooks: true,
             hook_fraction: 0.08,
             hook_angle: 45.0,
+            hook_length: HOOK_WINDOWS * 8.0 * tolerance,
         }
     }
 
@@ -53,12 +60,20 @@ impl CornerOptions {
         self
     }
 
-    /// Sets [`CornerOptions::window`].
+    /// Sets [`CornerOptions::window`], and [`CornerOptions::hook_length`] to [`HOOK_WINDOWS`]
+    /// windows.
     pub const fn with_window(mut self, window: f64) -> Self {
         self.window = window;
+        self.hook_length = HOOK_WINDOWS * window;
         self
     }
 }
+
+/// Default [`CornerOptions::hook_length`] in turning windows: 4 mm at the default 0.1 mm
+/// tolerance (20 px at 0.5 px, about 5 mm on a desktop screen). A landing or lifting flick is
+/// usually under 2 mm; a fast lift drags it further, and the google-ink spring ends in one of
+/// 18 px. The legs the 8 % zone alone took for hooks on the fixtures were 50 px and longer.
+pub const HOOK_WINDOWS: f64 = 5.0;
 
 /// Where to cut a stroke.
 #[derive(Clone, Debug, Default, PartialEq)]
@@ -125,7 +140,7 @@ pub fn find_corners(points: &[Point], options: &CornerOptions) -> Cuts {
     let s = cumulative_lengths(points);
     let angles = turning_angles_along(points, &s, options.window);
     let total = s[n - 1];
-    let zone = options.hook_fraction * total;
+    let zone = (options.hook_fraction * total).min(options.hook_length);
     let corner = options.corner_angle.to_radians();
     let hook = options.hook_angle.to_radians();
 
@@ -223,5 +238,27 @@ mod tests {
         );
         assert_eq!(kept.start_hook, None);
         assert_eq!(kept.corners.len(), 1);
+    }
+
+    #[test]
+    fn a_drawn_leg_near_an_end_is_a_corner_not_a_hook() {
+        // Legs of 10 mm at both ends of a 150 mm stroke: inside the 8 % end zones (12.8 mm) but
+        // longer than the longest hook (4 mm at 0.1 mm): corners, and nothing is dropped.
+        let pts = polyline(&[(8.0, -6.0), (0.0, 0.0), (150.0, 0.0), (142.0, 6.0)], 0.25);
+        let options = CornerOptions::for_tolerance(0.1);
+        assert!((options.hook_length - 4.0).abs() < 1e-12);
+        let cuts = find_corners(&pts, &options);
+        assert_eq!((cuts.start_hook, cuts.end_hook), (None, None));
+        assert_eq!(cuts.corners.len(), 2);
+        assert!(pts[cuts.corners[0]].distance(Point::ZERO) < 0.3);
+        assert!(pts[cuts.corners[1]].distance(Point::new(150.0, 0.0)) < 0.3);
+        // The same shape at a fifth of the size has 2 mm legs: hooks, dropped.
+        let small: Vec<Point> = pts
+            .iter()
+            .map(|p| Point::new(p.x / 5.0, p.y / 5.0))
+            .collect();
+        let cuts = find_corners(&small, &options);
+        assert!(cuts.start_hook.is_some() && cuts.end_hook.is_some());
+        assert!(cuts.corners.is_empty());
     }
 }

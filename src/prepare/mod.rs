@@ -15,7 +15,7 @@ mod corners;
 mod dedup;
 pub mod dwell;
 
-pub use corners::{CornerOptions, find_corners, turning_angles};
+pub use corners::{CornerOptions, HOOK_WINDOWS, find_corners, turning_angles};
 pub use dedup::{Distinct, merge_duplicates};
 pub use dwell::{DwellOptions, trim_dwell};
 
