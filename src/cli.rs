@@ -647,7 +647,7 @@ fn fit(args: &FitArgs, out: &mut dyn std::io::Write) -> Result<(), CliError> {
             ] {
                 if !ok {
                     eprintln!(
-                        "warning: {}: stroke {}, samples {}..={}: {what} deviates {deviation:.4} > tolerance {}",
+                        "warning: {}: stroke {}, samples {}..={}: {what} deviates {deviation:.4e} > tolerance {:e}",
                         input.display(),
                         c.stroke,
                         c.samples.0,

@@ -583,7 +583,11 @@ impl<'a> Fitter<'a> {
             }
             // A cut on top of an existing joint would make a segment of no length.
             let apart = COINCIDENT_JOINT_FRACTION * self.tolerance;
-            if mid.p.distance(a.p) <= apart || mid.p.distance(b.p) <= apart {
+            if mid.u == a.u
+                || mid.u == b.u
+                || mid.p.distance(a.p) <= apart
+                || mid.p.distance(b.p) <= apart
+            {
                 k += 1;
                 continue;
             }
@@ -679,7 +683,10 @@ impl<'a> Fitter<'a> {
                 k += 1;
                 continue;
             }
-            let coincident = a.p.distance(b.p) <= COINCIDENT_JOINT_FRACTION * self.tolerance;
+            // Joints at one parameter of the B-spline are one point of the data, whatever
+            // rounding left between their positions (seen: 1.4e-9 apart at a 1e-9 tolerance).
+            let coincident =
+                a.u == b.u || a.p.distance(b.p) <= COINCIDENT_JOINT_FRACTION * self.tolerance;
             let arcs = biarc(a.p, a.tangent(), b.p, b.tangent());
             // Arcs tighter than the smallest radius turn inside a disc the samples cannot resolve
             // (seen: joints 0.01 px apart at a 0.5 px tolerance, their tangents an S): the two
