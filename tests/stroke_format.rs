@@ -146,6 +146,53 @@ fn malformed_json_and_non_numbers_report_line_and_column() {
 }
 
 #[test]
+fn bad_values_in_a_file_name_their_stroke_sample_and_field() {
+    let two = |second: &str| {
+        format!(
+            r#"{{"format": "kansei-stroke", "version": 1, "units": "mm", "strokes": [
+{{"samples": [{{"x": 0, "y": 0}}, {{"x": 1, "y": 0}}]}},
+{{"samples": [{{"x": 0, "y": 0, "t": 0.0}}, {second}]}}]}}"#
+        )
+    };
+    for (second, field) in [
+        // 1e999 is JSON's infinity (out of f64's range); NaN and Infinity are not JSON at all.
+        (r#"{"x": 1e999, "y": 0}"#, Some("x")),
+        (r#"{"x": 1, "y": -1e999}"#, Some("y")),
+        (r#"{"x": 1, "y": 0, "t": NaN}"#, Some("t")),
+        (
+            r#"{"x": 1, "y": 0, "pressure": Infinity}"#,
+            Some("pressure"),
+        ),
+        (r#"{"x": "one", "y": 0}"#, Some("x")),
+        // A missing field is named by serde_json's message, not by the place.
+        (r#"{"y": 0}"#, None),
+    ] {
+        let text = two(second);
+        match StrokeFile::from_json(&text) {
+            Err(e @ StrokeError::Json { place: Some(_), .. }) => {
+                let StrokeError::Json {
+                    place: Some(place), ..
+                } = &e
+                else {
+                    unreachable!()
+                };
+                assert_eq!((place.stroke, place.sample), (1, Some(1)), "{second}");
+                assert_eq!(place.field.as_deref(), field, "{second}");
+                let message = e.to_string();
+                assert!(message.starts_with("stroke 1, sample 1"), "{message}");
+            }
+            other => panic!("{second}: expected a placed JSON error, got {other:?}"),
+        }
+    }
+    // Outside the strokes there is no place to name.
+    let header = r#"{"format": "kansei-stroke", "version": 1e999, "strokes": []}"#;
+    assert!(matches!(
+        StrokeFile::from_json(header),
+        Err(StrokeError::Json { place: None, .. })
+    ));
+}
+
+#[test]
 fn non_finite_values_built_in_code_are_refused() {
     let stroke = Stroke::new(vec![Sample::new(0.0, 0.0), Sample::new(f64::NAN, 1.0)]);
     let file = StrokeFile::new(Units::Mm, vec![stroke]);

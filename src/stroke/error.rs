@@ -1,5 +1,12 @@
 use thiserror::Error;
 
+use super::locate::JsonPlace;
+
+/// "stroke i, sample j, field f: " for a known place, nothing otherwise.
+fn prefix(place: &Option<JsonPlace>) -> String {
+    place.as_ref().map(|p| format!("{p}: ")).unwrap_or_default()
+}
+
 /// Why a stroke or a `kansei-stroke` file was refused. Every variant names the stroke and, where
 /// there is one, the sample index (both 0-based), so a user can find the offending line.
 #[derive(Debug, Error, Clone, PartialEq)]
@@ -7,8 +14,9 @@ pub enum StrokeError {
     /// The file was empty (zero bytes or only whitespace).
     #[error("the file is empty")]
     Empty,
-    /// The JSON did not parse, or a field had the wrong type.
-    #[error("invalid JSON at line {line}, column {column}: {message}")]
+    /// The JSON did not parse, or a field had the wrong type (a number beyond `f64`, such as
+    /// `1e999`, is the JSON spelling of an infinity and lands here).
+    #[error("{}invalid JSON at line {line}, column {column}: {message}", prefix(.place))]
     Json {
         /// 1-based line of the error.
         line: usize,
@@ -16,6 +24,8 @@ pub enum StrokeError {
         column: usize,
         /// What serde_json reported.
         message: String,
+        /// The stroke, sample and field there, when the error lies inside `strokes`.
+        place: Option<JsonPlace>,
     },
     /// The `format` field is not `kansei-stroke`.
     #[error("\"format\" is {found:?}, expected \"kansei-stroke\"")]

@@ -1,5 +1,6 @@
 use serde::{Deserialize, Serialize};
 
+use super::locate::place_at;
 use super::{Stroke, StrokeError, Units};
 
 /// The `format` value of a `kansei-stroke` file.
@@ -59,7 +60,7 @@ impl StrokeFile {
         if text.trim().is_empty() {
             return Err(StrokeError::Empty);
         }
-        let header: Header = serde_json::from_str(text).map_err(json_error)?;
+        let header: Header = serde_json::from_str(text).map_err(|e| json_error(text, e))?;
         match header.format {
             Some(f) if f == FORMAT_NAME => {}
             Some(f) => return Err(StrokeError::WrongFormat { found: f }),
@@ -74,7 +75,7 @@ impl StrokeFile {
             Some(v) => return Err(StrokeError::WrongVersion { found: v }),
             None => return Err(StrokeError::WrongVersion { found: 0 }),
         }
-        let file: StrokeFile = serde_json::from_str(text).map_err(json_error)?;
+        let file: StrokeFile = serde_json::from_str(text).map_err(|e| json_error(text, e))?;
         file.validate()?;
         Ok(file)
     }
@@ -141,10 +142,24 @@ fn to_compact<T: Serialize + ?Sized>(value: &T) -> String {
     serde_json::to_string(value).unwrap_or_else(|_| "null".to_owned())
 }
 
-fn json_error(e: serde_json::Error) -> StrokeError {
+/// serde_json's error, placed in the document's strokes and samples ([`place_at`]).
+fn json_error(text: &str, e: serde_json::Error) -> StrokeError {
+    // serde_json's message ends with the position, which the error states itself.
+    let full = e.to_string();
+    let suffix = format!(" at line {} column {}", e.line(), e.column());
+    let message = full.strip_suffix(&suffix).unwrap_or(&full).to_owned();
+    let place = place_at(text, e.line(), e.column()).map(|mut place| {
+        // A missing field is reported at the sample's closing brace, after the last key read:
+        // that key is not the one missing.
+        if message.starts_with("missing field") {
+            place.field = None;
+        }
+        place
+    });
     StrokeError::Json {
         line: e.line(),
         column: e.column(),
-        message: e.to_string(),
+        message,
+        place,
     }
 }

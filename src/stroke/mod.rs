@@ -8,8 +8,10 @@
 
 mod error;
 mod file;
+mod locate;
 mod sample;
 
 pub use error::StrokeError;
 pub use file::{FORMAT_NAME, FORMAT_VERSION, StrokeFile};
+pub use locate::{JsonPlace, place_at};
 pub use sample::{Sample, Stroke, Units};
