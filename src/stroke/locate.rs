@@ -168,4 +168,24 @@ mod tests {
         // The header is in no stroke.
         assert_eq!(place_at(text, 1, 5), None);
     }
+
+    #[test]
+    fn any_position_of_any_text_is_answered() {
+        // Unbalanced brackets, a dangling escape, multi-byte characters, positions past the end.
+        for text in [
+            "",
+            "]]}}",
+            "{\"strokes\": [{\"samples\": [{\"x\\",
+            "\"é\\",
+            "{\"a\": \"ü\"}\n[,,,",
+        ] {
+            for line in 0..4 {
+                for column in 0..(text.len() + 3) {
+                    let place = place_at(text, line, column);
+                    // Only a document with strokes has places.
+                    assert!(place.is_none() || text.contains("strokes"), "{text:?}");
+                }
+            }
+        }
+    }
 }
