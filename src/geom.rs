@@ -15,6 +15,13 @@ pub const DUPLICATE_RELATIVE: f64 = 1e-12;
 /// equations would start to lose every digit of a sub-millimetre tolerance.
 pub const MAX_COORDINATE: f64 = 1e9;
 
+/// Smallest extent of a stroke (the diagonal of its samples' box) relative to its largest
+/// coordinate: 10⁻¹¹, a thousand times the relative distance at which the LAC construction
+/// takes two end points for one ([`crate::lac::yoshida_saito::COINCIDENT_RELATIVE`], 10⁻¹⁴),
+/// so a segment of a thousandth of the stroke is still resolved. At the largest accepted
+/// coordinate, 10⁹ mm, a stroke must span 10 µm; at 1 m from the origin, 10 pm.
+pub const MIN_EXTENT_RELATIVE: f64 = 1e-11;
+
 /// A cubic Bézier that is one knot span of a B-spline.
 ///
 /// Local parameter `t ∈ [0, 1]` of [`ParamBez::bez`] maps to the B-spline's global parameter

@@ -193,6 +193,41 @@ fn bad_values_in_a_file_name_their_stroke_sample_and_field() {
 }
 
 #[test]
+fn a_stroke_too_small_for_its_coordinates_is_refused_with_its_size() {
+    // 50 samples a tenth of a micrometre apart at 10⁹ mm: a few dozen rounding steps wide.
+    let far = |offset: f64, spacing: f64| {
+        Stroke::from_points(
+            (0..50).map(|i| kansei::geom::Point::new(offset + spacing * f64::from(i), offset)),
+        )
+    };
+    let file = StrokeFile::new(Units::Mm, vec![far(9.99e8, 1e-7)]);
+    match file.validate() {
+        Err(
+            e @ StrokeError::Unresolvable {
+                stroke: 0,
+                extent,
+                magnitude,
+            },
+        ) => {
+            assert!((extent - 4.9e-6).abs() < 1e-6 && (magnitude - 9.99e8).abs() < 1.0);
+            assert!(e.to_string().contains("nearer the origin"), "{e}");
+        }
+        other => panic!("expected an unresolvable stroke, got {other:?}"),
+    }
+    // The same drawing at the origin, or spanning 0.1 mm there, is fine.
+    assert!(
+        StrokeFile::new(Units::Mm, vec![far(0.0, 1e-7)])
+            .validate()
+            .is_ok()
+    );
+    assert!(
+        StrokeFile::new(Units::Mm, vec![far(9.99e8, 2e-3)])
+            .validate()
+            .is_ok()
+    );
+}
+
+#[test]
 fn non_finite_values_built_in_code_are_refused() {
     let stroke = Stroke::new(vec![Sample::new(0.0, 0.0), Sample::new(f64::NAN, 1.0)]);
     let file = StrokeFile::new(Units::Mm, vec![stroke]);

@@ -105,4 +105,18 @@ pub enum StrokeError {
         /// Number of distinct positions found.
         distinct: usize,
     },
+    /// The samples span so little beside the size of their coordinates that `f64` cannot
+    /// resolve the stroke's shape there (see [`crate::geom::MIN_EXTENT_RELATIVE`]).
+    #[error(
+        "stroke {stroke}: its samples span {extent:e} at coordinates up to {magnitude:e}, too \
+         little for f64 to resolve its shape there; move the drawing nearer the origin"
+    )]
+    Unresolvable {
+        /// Stroke index.
+        stroke: usize,
+        /// The diagonal of the samples' bounding box.
+        extent: f64,
+        /// The largest coordinate magnitude among the samples.
+        magnitude: f64,
+    },
 }

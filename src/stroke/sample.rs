@@ -1,7 +1,7 @@
 use serde::{Deserialize, Serialize};
 
 use super::StrokeError;
-use crate::geom::{MAX_COORDINATE, Point};
+use crate::geom::{MAX_COORDINATE, MIN_EXTENT_RELATIVE, Point};
 
 /// Units of a stroke's coordinates.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize, Deserialize)]
@@ -186,6 +186,22 @@ impl Stroke {
             return Err(StrokeError::TooFewSamples {
                 stroke: index,
                 distinct,
+            });
+        }
+        let (mut lo, mut hi) = (
+            Point::new(f64::INFINITY, f64::INFINITY),
+            Point::new(f64::NEG_INFINITY, f64::NEG_INFINITY),
+        );
+        for s in &self.samples {
+            (lo.x, lo.y, hi.x, hi.y) = (lo.x.min(s.x), lo.y.min(s.y), hi.x.max(s.x), hi.y.max(s.y));
+        }
+        let extent = (hi - lo).hypot();
+        let magnitude = lo.x.abs().max(lo.y.abs()).max(hi.x.abs()).max(hi.y.abs());
+        if extent < MIN_EXTENT_RELATIVE * magnitude {
+            return Err(StrokeError::Unresolvable {
+                stroke: index,
+                extent,
+                magnitude,
             });
         }
         Ok(())
