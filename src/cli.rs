@@ -206,7 +206,8 @@ pub struct FitArgs {
 /// `kansei bench`.
 #[derive(Debug, Args)]
 pub struct BenchArgs {
-    /// kansei-stroke JSON files (default: every file in fixtures/strokes).
+    /// kansei-stroke JSON files (default: every file in fixtures/strokes, of the working
+    /// directory or else of the checkout kansei was built from).
     pub inputs: Vec<PathBuf>,
     /// Tolerances to measure, in each file's units (repeat the flag) [default: the unit's
     /// default and twice it].
@@ -790,10 +791,17 @@ impl BenchTally {
 
 fn bench(args: &BenchArgs, out: &mut dyn std::io::Write) -> Result<(), CliError> {
     let inputs = if args.inputs.is_empty() {
-        let dir = Path::new("fixtures/strokes");
-        let mut v: Vec<PathBuf> = std::fs::read_dir(dir)
+        // The working directory's fixtures (a checkout's root), else those of the checkout the
+        // binary was built from.
+        let local = Path::new("fixtures/strokes");
+        let dir = if local.is_dir() {
+            local.to_owned()
+        } else {
+            Path::new(env!("CARGO_MANIFEST_DIR")).join(local)
+        };
+        let mut v: Vec<PathBuf> = std::fs::read_dir(&dir)
             .map_err(|source| CliError::Io {
-                path: dir.to_owned(),
+                path: dir.clone(),
                 source,
             })?
             .filter_map(|e| e.ok().map(|e| e.path()))
