@@ -170,7 +170,7 @@ pub struct FitArgs {
     /// receives `<input stem>.curve.json` for each.
     #[arg(long)]
     pub json: Option<PathBuf>,
-    /// Also write an SVG: one path per fitted piece, lines and arcs exact, spirals as cubic
+    /// Also write an SVG: one path per stroke, lines and arcs exact, spirals as cubic
     /// Béziers within --export-accuracy. With several inputs, a directory that receives
     /// `<input stem>.svg` for each.
     #[arg(long)]

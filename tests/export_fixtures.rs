@@ -10,8 +10,7 @@ mod common;
 use std::sync::OnceLock;
 
 use common::export::{
-    Element, Piece, children, group, index_of, parse_attr, parse_path, parse_xml,
-    two_sided_distance, view_box,
+    Piece, group, numbers, parse_attr, parse_xml, two_sided_distance, view_box, written_pieces,
 };
 use kansei::export::{
     CURVE_SCHEMA_V1, CurveFile, CurveFormatError, DxfOptions, ExportOptions, STROKE_SCHEMA_V1,
@@ -61,19 +60,26 @@ struct Tally {
     worst_ratio: f64,
     arcs: usize,
     lines: usize,
+    paths: usize,
+    pieces: usize,
+    continued: usize,
 }
 
 impl Tally {
     fn summary(&self) -> String {
         format!(
             "{} spiral segments, {} cubics ({:.2} per spiral segment, at most {} for one \
-             segment), {} arcs, {} lines; largest measured error {:.3} × the accuracy",
+             segment), {} arcs, {} lines; {} paths of {} pieces ({} continuing the previous \
+             piece's subpath); largest measured error {:.3} × the accuracy",
             self.spiral_segments,
             self.cubics,
             self.cubics as f64 / self.spiral_segments.max(1) as f64,
             self.max_cubics,
             self.arcs,
             self.lines,
+            self.paths,
+            self.pieces,
+            self.continued,
             self.worst_ratio
         )
     }
@@ -100,57 +106,94 @@ fn svg_paths_lie_within_the_accuracy_of_the_chain() {
             assert_eq!(elements[0].attr("width"), Some(format!("{w}mm").as_str()));
             assert_eq!(elements[0].attr("height"), Some(format!("{h}mm").as_str()));
         }
+        // One <path> per stroke with a chain, in stroke order, saying which stroke it draws.
         let paths = group(&elements, "curves").1;
-        let chains = chains(out);
-        assert_eq!(paths.len(), chains.len(), "{name}");
-        for (path, chain) in paths.iter().zip(&chains) {
-            let pieces = parse_path(path.attr("d").expect("d"));
-            let meta = children(&elements, index_of(&elements, path));
-            let segs: Vec<&Element> = children(&elements, meta[0].0)
-                .into_iter()
-                .map(|(_, e)| e)
-                .collect();
-            assert_eq!(segs.len(), chain.len(), "{name}");
-            let mut at = 0;
-            for (seg, e) in chain.iter().zip(segs) {
-                let n = parse_attr(e, "commands") as usize;
-                let mine: Vec<Piece> = pieces[at..at + n].to_vec();
-                at += n;
-                let error = two_sided_distance(seg, &mine);
-                let letter = e.attr("element").expect("element");
-                assert!(mine.iter().all(|p| letter.starts_with(p.letter())));
-                match letter {
-                    "C" => {
-                        assert!(
-                            error <= accuracy,
-                            "{name}: {seg:?} {n} cubics: {error} > {accuracy}"
-                        );
-                        assert!(parse_attr(e, "error") <= accuracy);
-                        tally.spiral_segments += 1;
-                        tally.cubics += n;
-                        tally.max_cubics = tally.max_cubics.max(n);
-                        tally.worst_ratio = tally.worst_ratio.max(error / accuracy);
-                    }
-                    _ => {
-                        // Exact, up to the rounding of the written numbers.
-                        // (An arc within a thousandth of the accuracy of its chord is written
-                        // as that chord, and says so.)
-                        let stated = parse_attr(e, "error");
-                        assert!(stated <= 1e-3 * accuracy);
-                        assert!(
-                            error <= stated + 1e-9 * seg.length().max(1.0),
-                            "{name}: {letter} {error} {seg:?} {mine:?}"
-                        );
-                        if letter == "A" {
-                            tally.arcs += 1;
-                        } else {
-                            tally.lines += 1;
+        let mut strokes: Vec<usize> = out
+            .curves
+            .iter()
+            .filter(|c| c.chain.is_some())
+            .map(|c| c.stroke)
+            .collect();
+        strokes.dedup();
+        assert_eq!(paths.len(), strokes.len(), "{name}: one path per stroke");
+        assert_eq!(export.paths.len(), strokes.len());
+        let mut pieces_seen = 0;
+        for ((path, &stroke), report) in paths.iter().zip(&strokes).zip(&export.paths) {
+            assert_eq!(parse_attr(path, "data-stroke") as usize, stroke, "{name}");
+            assert_eq!(path.attr("id"), Some(format!("stroke-{stroke}").as_str()));
+            assert_eq!(report.stroke, stroke);
+            let written = written_pieces(&elements, path);
+            assert_eq!(parse_attr(path, "data-pieces") as usize, written.len());
+            assert_eq!(written.len(), report.pieces.len(), "{name}");
+            let range = numbers(path.attr("data-samples").expect("data-samples"));
+            let mut last_end: Option<kurbo::Point> = None;
+            for (w, r) in written.iter().zip(&report.pieces) {
+                assert_eq!((w.piece, w.move_to), (r.piece, r.move_to), "{name}");
+                let fit = &out.curves[w.piece];
+                assert_eq!(
+                    fit.stroke, stroke,
+                    "{name}: piece {} in the wrong path",
+                    w.piece
+                );
+                assert!(range[0] as usize <= fit.samples.0 && fit.samples.1 <= range[1] as usize);
+                let chain: Vec<LacSegment> = fit
+                    .chain
+                    .as_ref()
+                    .expect("a chain")
+                    .segments
+                    .iter()
+                    .map(|s| s.segment)
+                    .collect();
+                assert_eq!(w.segments.len(), chain.len(), "{name}");
+                // A piece continues the subpath only from its own exact start.
+                if !w.move_to {
+                    tally.continued += 1;
+                    assert_eq!(last_end, Some(chain[0].start()), "{name}");
+                }
+                last_end = chain.last().map(LacSegment::end);
+                pieces_seen += 1;
+                for (i, (seg, (e, mine))) in chain.iter().zip(&w.segments).enumerate() {
+                    assert_eq!(parse_attr(e, "index") as usize, i);
+                    let n = mine.len();
+                    let error = two_sided_distance(seg, mine);
+                    let letter = e.attr("element").expect("element");
+                    assert!(mine.iter().all(|p| letter.starts_with(p.letter())));
+                    match letter {
+                        "C" => {
+                            assert!(
+                                error <= accuracy,
+                                "{name}: {seg:?} {n} cubics: {error} > {accuracy}"
+                            );
+                            assert!(parse_attr(e, "error") <= accuracy);
+                            tally.spiral_segments += 1;
+                            tally.cubics += n;
+                            tally.max_cubics = tally.max_cubics.max(n);
+                            tally.worst_ratio = tally.worst_ratio.max(error / accuracy);
+                        }
+                        _ => {
+                            // Exact, up to the rounding of the written numbers.
+                            // (An arc within a thousandth of the accuracy of its chord is
+                            // written as that chord, and says so.)
+                            let stated = parse_attr(e, "error");
+                            assert!(stated <= 1e-3 * accuracy);
+                            assert!(
+                                error <= stated + 1e-9 * seg.length().max(1.0),
+                                "{name}: {letter} {error} {seg:?} {mine:?}"
+                            );
+                            if letter == "A" {
+                                tally.arcs += 1;
+                            } else {
+                                tally.lines += 1;
+                            }
                         }
                     }
                 }
             }
-            assert_eq!(at, pieces.len(), "{name}: commands left over");
         }
+        // Every piece with a chain is in some path.
+        assert_eq!(pieces_seen, chains(out).len(), "{name}");
+        tally.paths += paths.len();
+        tally.pieces += pieces_seen;
     }
     assert!(tally.spiral_segments > 50, "{}", tally.summary());
     println!(
