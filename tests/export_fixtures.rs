@@ -1,6 +1,7 @@
 //! Every fixture through every export: the SVG's paths, parsed back, and the DXF's splines, read
 //! back with the `dxf` crate, lie within the stated accuracy of the exact LAC chain (measured
-//! independently of the library's own measure); the DXF files pass ezdxf's audit and the SVG
+//! independently of the library's own measure); the DXF files pass ezdxf's audit, and ezdxf's own
+//! evaluation of their splines lies within the accuracy of the chain both ways; the SVG
 //! files render with librsvg; the stroke
 //! files and the fit outputs validate against the checked-in JSON Schemas; curve JSON round
 //! trips byte for byte and every f64 bit for bit; the readers dispatch on the version.
@@ -14,7 +15,7 @@ use common::export::{
 };
 use kansei::export::{
     CURVE_SCHEMA_V1, CurveFile, CurveFormatError, DxfOptions, ExportOptions, STROKE_SCHEMA_V1,
-    SVG_METADATA_NAMESPACE, SvgOptions, dxf_drawing, svg_document,
+    SVG_METADATA_NAMESPACE, SvgOptions, dxf_drawing, lac_spacing, svg_document,
 };
 use kansei::lac::LacSegment;
 use kansei::pipeline::{FitOutput, PipelineOptions, fit_file};
@@ -320,8 +321,61 @@ fn python_with_ezdxf() -> Option<String> {
     })
 }
 
+/// The reference polylines of the ezdxf check lie within this fraction of the export accuracy
+/// of the exact LAC chain (their chord error); the script adds it to the accuracy it checks
+/// against. A twentieth keeps the check within 5 % of the accuracy while a fixture's polyline
+/// stays at a few thousand points.
+const EZDXF_REFERENCE_CHORD_FRACTION: f64 = 0.05;
+
+/// The exact LAC chain of each spline of `out`'s DXF, as a JSON reference for
+/// `tests/dxf_audit.py`: the accuracy, the chord error of the polylines, and per spline (one per
+/// piece with a chain, in order) the points of its chain's segments, each sampled by
+/// [`LacSegment::samples`] at [`lac_spacing`] for that chord error. The chord error written is
+/// the largest bound κ_max·h²/8 over the spacings h actually used, never below the one asked.
+fn dxf_reference(out: &FitOutput, accuracy: f64) -> serde_json::Value {
+    let asked = EZDXF_REFERENCE_CHORD_FRACTION * accuracy;
+    let mut chord_error: f64 = asked;
+    let mut splines = Vec::new();
+    for chain in chains(out) {
+        let mut points: Vec<f64> = Vec::new();
+        for seg in &chain {
+            let spacing = lac_spacing(seg, asked);
+            let steps = (seg.length() / spacing).ceil().max(1.0);
+            let h = seg.length() / steps;
+            let kappa = seg.kappa0().abs().max(seg.kappa1().abs());
+            chord_error = chord_error.max(kappa * h * h / 8.0);
+            // Consecutive segments share their joint: write it once.
+            let skip = usize::from(!points.is_empty());
+            for sample in seg.samples(spacing).skip(skip) {
+                points.extend([sample.point.x, sample.point.y]);
+            }
+        }
+        splines.push(serde_json::Value::from(points));
+    }
+    serde_json::json!({
+        "accuracy": accuracy,
+        "chord_error": chord_error,
+        "splines": splines,
+    })
+}
+
+/// Every fixture's DXF (and a planted spiral's in mm) read by ezdxf, the reference Python DXF
+/// library, through `tests/dxf_audit.py`: the file loads, passes `doc.audit()` without errors,
+/// states its `$INSUNITS`, and holds one degree-3 SPLINE per piece with knots = control points +
+/// 4; and, beside each file, a reference of the exact LAC chain ([`dxf_reference`]) against
+/// which every SPLINE, evaluated by ezdxf's own B-spline evaluator
+/// (`construction_tool().points(...)`), lies within the stated accuracy both ways: every point of
+/// the spline's dense polyline to the reference polyline, every reference point to the spline's
+/// polyline (plus both polylines' chord errors, stated in the output).
+///
+/// ezdxf's audit reports 7 fixes per file, all of one kind: "Fixed invalid table head handle in
+/// table VPORT" (and LTYPE, LAYER, STYLE, APPID, DIMSTYLE, BLOCK_RECORD; audit code 110,
+/// `INVALID_TABLE_HANDLE`). The `dxf` crate writes the `TABLE` header of each of the seven symbol
+/// tables without a handle (group code 5), which R2000 expects; ezdxf gives each a new handle
+/// in memory. The entities themselves need no fix, and the script fails on any fix of another
+/// kind.
 #[test]
-fn every_fixture_dxf_passes_the_ezdxf_audit() {
+fn every_fixture_dxf_passes_the_ezdxf_audit_and_its_splines_lie_on_the_chain() {
     let Some(python) = python_with_ezdxf() else {
         // .ci/run installs python3-ezdxf and sets KANSEI_REQUIRE_EZDXF=1 when it can.
         if std::env::var_os("KANSEI_REQUIRE_EZDXF").is_some() {
@@ -343,13 +397,19 @@ fn every_fixture_dxf_passes_the_ezdxf_audit() {
         .chain([("planted-mm", &mm)]);
     for (name, out) in outputs {
         let export = dxf_drawing(out, &DxfOptions::default());
+        // One spline per piece with a chain, so the reference's splines pair with the file's.
+        assert_eq!(export.splines.len(), chains(out).len(), "{name}");
         let path = dir.join(format!("{name}.audit.dxf"));
         std::fs::write(&path, export.to_bytes().expect("writes")).expect("write");
+        let reference = dir.join(format!("{name}.audit.reference.json"));
+        let json = dxf_reference(out, export.accuracy);
+        std::fs::write(&reference, json.to_string()).expect("write");
         let units = if out.units == Units::Mm { 4 } else { 0 };
         args.push(format!(
-            "{}={},{units}",
+            "{}={},{units},{}",
             path.display(),
-            export.splines.len()
+            export.splines.len(),
+            reference.display()
         ));
     }
     let run = std::process::Command::new(&python)
@@ -359,14 +419,43 @@ fn every_fixture_dxf_passes_the_ezdxf_audit() {
         .expect("python runs");
     let report = String::from_utf8_lossy(&run.stdout);
     println!("{report}{}", String::from_utf8_lossy(&run.stderr));
-    assert!(run.status.success(), "ezdxf audit failed:\n{report}");
-    assert_eq!(
-        report
-            .lines()
-            .filter(|l| l.contains(" 0 audit errors"))
-            .count(),
-        fixtures().len() + 1
-    );
+    assert!(run.status.success(), "ezdxf check failed:\n{report}");
+    let files = fixtures().len() + 1;
+    let count = |needle: &str| report.lines().filter(|l| l.contains(needle)).count();
+    assert_eq!(count(" 0 audit errors"), files);
+    assert_eq!(count("7 fixes (table head handles)"), files);
+    assert_eq!(count("within the accuracy both ways"), files);
+
+    // The geometric check does fail: the planted spiral's chain moved by three accuracies.
+    let export = dxf_drawing(&mm, &DxfOptions::default());
+    let mut moved = dxf_reference(&mm, export.accuracy);
+    for spline in moved["splines"].as_array_mut().expect("splines") {
+        for (i, v) in spline
+            .as_array_mut()
+            .expect("points")
+            .iter_mut()
+            .enumerate()
+        {
+            if i % 2 == 0 {
+                *v = (v.as_f64().expect("x") + 3.0 * export.accuracy).into();
+            }
+        }
+    }
+    let reference = dir.join("planted-mm.moved.reference.json");
+    std::fs::write(&reference, moved.to_string()).expect("write");
+    let run = std::process::Command::new(&python)
+        .arg(&args[0])
+        .arg(format!(
+            "{}=1,4,{}",
+            dir.join("planted-mm.audit.dxf").display(),
+            reference.display()
+        ))
+        .stdin(std::process::Stdio::null())
+        .output()
+        .expect("python runs");
+    let report = String::from_utf8_lossy(&run.stdout);
+    assert!(!run.status.success(), "a moved chain passed:\n{report}");
+    assert!(report.contains("NOT within the accuracy"), "{report}");
 }
 
 #[test]
