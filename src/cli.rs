@@ -9,6 +9,7 @@ use clap::{Args, Parser, Subcommand};
 use crate::export::{CurveFile, DxfOptions, ExportOptions, SvgOptions, dxf_drawing, svg_document};
 use crate::lac::AlphaChoice;
 use crate::pipeline::{PipelineOptions, fit_file};
+use crate::render::{Overlays, RenderOptions};
 use crate::stroke::{StrokeError, StrokeFile};
 
 /// kansei: pen strokes to log-aesthetic curves.
@@ -170,7 +171,7 @@ pub struct FitArgs {
     /// receives `<input stem>.curve.json` for each.
     #[arg(long)]
     pub json: Option<PathBuf>,
-    /// Also write an SVG: one path per fitted piece, lines and arcs exact, spirals as cubic
+    /// Also write an SVG: one path per stroke, lines and arcs exact, spirals as cubic
     /// Béziers within --export-accuracy. With several inputs, a directory that receives
     /// `<input stem>.svg` for each.
     #[arg(long)]
@@ -187,11 +188,16 @@ pub struct FitArgs {
     /// file's units [default: a tenth of the tolerance].
     #[arg(long, alias = "svg-accuracy")]
     pub export_accuracy: Option<f64>,
-    /// Also write a PNG (samples, B-spline, split markers, LAC segments coloured by α, legend,
-    /// scale bar), drawn by the `render` module. With several inputs, a directory that
-    /// receives `<input stem>.png` for each.
+    /// Also write a PNG (by default samples, B-spline, split markers, LAC segments coloured by
+    /// α, legend, scale bar; see --png-layers), drawn by the `render` module. With several
+    /// inputs, a directory that receives `<input stem>.png` for each.
     #[arg(long)]
     pub png: Option<PathBuf>,
+    /// The PNG's overlays, comma-separated, drawn instead of the default set (samples, bspline,
+    /// splits, segments, legend, scale-bar): any of samples, bspline, control-polygon, splits,
+    /// segments, comb, legend, scale-bar.
+    #[arg(long, value_delimiter = ',', value_parser = PNG_LAYERS)]
+    pub png_layers: Option<Vec<String>>,
     /// Size of the PNG, WIDTHxHEIGHT pixels.
     #[arg(long, value_parser = parse_size, default_value = "1600x1000")]
     pub size: (u32, u32),
@@ -690,11 +696,17 @@ fn fit(args: &FitArgs, out: &mut dyn std::io::Write) -> Result<(), CliError> {
         }
         if let Some(path) = &args.png {
             let target = target(input, path, "png");
-            let png =
-                quick_look_png(&file, &output, args.size).map_err(|source| CliError::Render {
+            let options = RenderOptions::with_overlays(
+                args.png_layers
+                    .as_deref()
+                    .map_or_else(Overlays::default, png_overlays),
+            );
+            let png = quick_look_png(&file, &output, args.size, &options).map_err(|source| {
+                CliError::Render {
                     path: target.clone(),
                     source,
-                })?;
+                }
+            })?;
             write_atomic(&target, &png)?;
         }
         match &args.json {
@@ -721,17 +733,47 @@ fn fit(args: &FitArgs, out: &mut dyn std::io::Write) -> Result<(), CliError> {
 /// split markers at the edges.
 pub const PNG_MARGIN_PX: f64 = 48.0;
 
-/// The PNG of a fitted file: the default overlays, the whole scene in view.
-fn quick_look_png(
+/// The names `kansei fit --png-layers` accepts, each an [`Overlays`] field.
+pub const PNG_LAYERS: [&str; 8] = [
+    "samples",
+    "bspline",
+    "control-polygon",
+    "splits",
+    "segments",
+    "comb",
+    "legend",
+    "scale-bar",
+];
+
+/// The overlays named in `layers` (names of [`PNG_LAYERS`]; others are ignored), the rest off.
+pub fn png_overlays(layers: &[String]) -> Overlays {
+    let on = |name: &str| layers.iter().any(|l| l == name);
+    Overlays {
+        samples: on("samples"),
+        bspline: on("bspline"),
+        control_polygon: on("control-polygon"),
+        splits: on("splits"),
+        segments: on("segments"),
+        comb: on("comb"),
+        legend: on("legend"),
+        scale_bar: on("scale-bar"),
+    }
+}
+
+/// The PNG of a fitted file as `kansei fit --png` writes it: the whole scene in view
+/// ([`View::fit`](crate::render::View::fit) with a margin of [`PNG_MARGIN_PX`]), drawn with
+/// `options`.
+pub fn quick_look_png(
     file: &StrokeFile,
     output: &crate::pipeline::FitOutput,
     (width, height): (u32, u32),
+    options: &RenderOptions,
 ) -> Result<Vec<u8>, crate::render::RenderError> {
-    use crate::render::{RenderOptions, Scene, View, render_png, scene_bounds};
+    use crate::render::{Scene, View, render_png, scene_bounds};
     let scene = Scene::new(&file.strokes, &output.curves, file.units);
     let bounds = scene_bounds(&scene).unwrap_or_default();
     let view = View::fit(bounds, width, height, PNG_MARGIN_PX);
-    render_png(&scene, &view, &RenderOptions::default())
+    render_png(&scene, &view, options)
 }
 
 /// Says on stderr when an export's measured error exceeds the accuracy asked for (a segment

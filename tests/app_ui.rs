@@ -557,3 +557,39 @@ fn the_file_chooser_fills_the_path_and_save_writes_there() {
     assert_eq!(saved.strokes.len(), 1);
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+#[test]
+fn the_apps_svg_export_writes_one_path_per_stroke_with_the_samples_layer() {
+    use kansei::pipeline::{PipelineOptions, fit_file};
+    use kansei::stroke::StrokeFile;
+    let dir = temp_dir("svg-export");
+    for name in ["perfect-freehand-corners", "perfect-freehand-hey"] {
+        let path = format!(
+            "{}/fixtures/strokes/{name}.json",
+            env!("CARGO_MANIFEST_DIR")
+        );
+        let text = std::fs::read_to_string(&path).expect("fixture");
+        let file = StrokeFile::from_json(&text).expect("parses");
+        let output = fit_file(&file, &PipelineOptions::default()).expect("fits");
+        let svg = dir.join(format!("{name}.svg"));
+        kansei::app::files::export_svg(&svg, &file, &output).expect("writes");
+        let text = std::fs::read_to_string(&svg).expect("reads");
+        let doc = roxmltree::Document::parse(&text).expect("well-formed");
+        let layer = |id: &str| {
+            doc.descendants()
+                .find(|n| n.attribute("id") == Some(id))
+                .map(|g| g.children().filter(|c| c.is_element()).count())
+        };
+        // One path per stroke (a stroke cut at corners is still one path), and every sample.
+        let mut strokes: Vec<usize> = output.curves.iter().map(|c| c.stroke).collect();
+        strokes.dedup();
+        assert!(
+            output.curves.len() > strokes.len(),
+            "{name}: pieces to join"
+        );
+        assert_eq!(layer("curves"), Some(strokes.len()), "{name}");
+        let samples: usize = file.strokes.iter().map(|s| s.samples.len()).sum();
+        assert_eq!(layer("samples"), Some(samples), "{name}");
+    }
+    let _ = std::fs::remove_dir_all(&dir);
+}

@@ -185,13 +185,13 @@ const DENSE_STEP_PX: f64 = 0.1;
 /// Checks that every inked pixel of `pixmap` lies within [`ink_bound`] of the `segments`
 /// (evaluated independently of the renderer, with [`LacSegment::point`] every
 /// [`DENSE_STEP_PX`]), and that ink touches the pixel under every evaluated point. Returns the
-/// number of inked pixels.
+/// number of inked pixels and the largest distance of one from the evaluated points.
 fn assert_ink_on_segments(
     pixmap: &Pixmap,
     view: &View,
     segments: &[LacSegment],
     width: f64,
-) -> usize {
+) -> (usize, f64) {
     let bound = ink_bound(width);
     let (w, h) = (pixmap.width() as usize, pixmap.height() as usize);
     // Distance from each pixel centre to the nearest evaluated point, within 3 pixels.
@@ -217,7 +217,9 @@ fn assert_ink_on_segments(
     }
     let ink = inked(pixmap);
     let mut count = 0;
+    let mut farthest: f64 = 0.0;
     for (k, _) in ink.iter().enumerate().filter(|(_, i)| **i) {
+        farthest = farthest.max(dist[k]);
         assert!(
             dist[k] <= bound,
             "pixel ({}, {}) is inked {:.3} px from the LAC (bound {bound:.3})",
@@ -238,7 +240,7 @@ fn assert_ink_on_segments(
             q.y
         );
     }
-    count
+    (count, farthest)
 }
 
 #[test]
@@ -269,7 +271,7 @@ fn segment_pixels_lie_on_the_evaluated_lac() {
             .flat_map(|c| &c.chain.as_ref().expect("a chain").segments)
             .map(|s| s.segment)
             .collect();
-        checked += assert_ink_on_segments(&pixmap, &view, &segments, width);
+        checked += assert_ink_on_segments(&pixmap, &view, &segments, width).0;
     }
     assert!(checked > 1000, "{checked} pixels checked");
 }
@@ -307,7 +309,7 @@ fn arcs_lines_and_spirals_are_drawn_on_the_exact_curve() {
                 tiny_skia::Transform::identity(),
                 None,
             );
-            let n = assert_ink_on_segments(&pixmap, &view, &[seg], width);
+            let (n, _) = assert_ink_on_segments(&pixmap, &view, &[seg], width);
             assert!(n > 50, "{seg:?}: {n} pixels");
         }
     }
@@ -894,4 +896,140 @@ fn non_finite_samples_are_skipped() {
     let view = View::fit(b, 50, 50, 5.0);
     let p = render(&scene, &view, &RenderOptions::default()).expect("renders");
     assert!(inked(&p).iter().any(|&i| i));
+}
+
+/// Size of the PNGs of [`every_fixture_png_through_the_cli_path_lies_on_its_chain`]: wide
+/// enough that the fixtures' strokes are several pixels apart, small enough for eight renders.
+const FIXTURE_PNG_SIZE: (u32, u32) = (800, 500);
+
+/// The view `kansei fit --png` draws in (`kansei::cli::quick_look_png`): the whole scene, with
+/// the CLI's margin.
+fn cli_view(file: &StrokeFile, out: &FitOutput, (w, h): (u32, u32)) -> View {
+    let scene = Scene::new(&file.strokes, &out.curves, file.units);
+    View::fit(
+        scene_bounds(&scene).expect("a non-empty scene"),
+        w,
+        h,
+        kansei::cli::PNG_MARGIN_PX,
+    )
+}
+
+#[test]
+fn every_fixture_png_through_the_cli_path_lies_on_its_chain() {
+    // The LAC segments alone (`--png-layers segments`), so every inked pixel is curve colour.
+    let options = RenderOptions::with_overlays(Overlays {
+        segments: true,
+        ..Overlays::NONE
+    });
+    let width = options.segment_width;
+    let mut figures = Vec::new();
+    for name in common::fixture_names() {
+        let file = common::fixture(&name);
+        let out = fitted(&file);
+        let bytes = kansei::cli::quick_look_png(&file, &out, FIXTURE_PNG_SIZE, &options)
+            .unwrap_or_else(|e| panic!("{name}: {e}"));
+        assert!(bytes.starts_with(b"\x89PNG\r\n\x1a\n"), "{name}: not a PNG");
+        let pixmap = Pixmap::decode_png(&bytes).expect("decodes");
+        assert_eq!(
+            (pixmap.width(), pixmap.height()),
+            FIXTURE_PNG_SIZE,
+            "{name}: the size asked"
+        );
+        let segments: Vec<LacSegment> = out
+            .curves
+            .iter()
+            .filter_map(|c| c.chain.as_ref())
+            .flat_map(|c| &c.segments)
+            .map(|s| s.segment)
+            .collect();
+        assert!(!segments.is_empty(), "{name}: no chain");
+        // Every inked pixel within ink_bound(width) of the exact chain, and ink beside every
+        // point of the chain.
+        let (inked, farthest) = assert_ink_on_segments(
+            &pixmap,
+            &cli_view(&file, &out, FIXTURE_PNG_SIZE),
+            &segments,
+            width,
+        );
+        assert!(inked > 100, "{name}: {inked} inked pixels");
+        figures.push(format!("{name}: {inked} px, farthest {farthest:.3}"));
+    }
+    assert_eq!(figures.len(), 8, "every fixture: {figures:?}");
+    println!(
+        "{}×{} px, every inked pixel within {:.3} px of the chain, ink beside every chain point: {}",
+        FIXTURE_PNG_SIZE.0,
+        FIXTURE_PNG_SIZE.1,
+        ink_bound(width),
+        figures.join(", ")
+    );
+}
+
+#[test]
+fn cli_png_layers_draw_the_overlays_named_and_the_comb_only_where_it_draws() {
+    let dir = std::env::temp_dir().join(format!("kansei-png-layers-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).expect("temp dir");
+    let name = "perfect-freehand-corners";
+    let input = format!(
+        "{}/fixtures/strokes/{name}.json",
+        env!("CARGO_MANIFEST_DIR")
+    );
+    let size = (480, 300);
+    let run = |layers: &str| {
+        let png = dir.join(format!("{}.png", layers.replace(',', "_")));
+        run_ok(
+            std::process::Command::new(env!("CARGO_BIN_EXE_kansei"))
+                .args(["fit", &input, "--json"])
+                .arg(dir.join("out.curve.json"))
+                .arg("--png")
+                .arg(&png)
+                .args(["--size", "480x300", "--png-layers", layers]),
+        );
+        Pixmap::load_png(&png).expect("a PNG")
+    };
+    let base = run("segments,splits,legend");
+    let with_comb = run("segments,splits,legend,comb");
+    let comb = run("comb");
+    // The flag names the overlays drawn: the CLI's image is the library's with those overlays.
+    let file = common::fixture(name);
+    let out = fitted(&file);
+    let overlays = Overlays {
+        segments: true,
+        splits: true,
+        legend: true,
+        ..Overlays::NONE
+    };
+    let library =
+        kansei::cli::quick_look_png(&file, &out, size, &RenderOptions::with_overlays(overlays))
+            .expect("renders");
+    assert_eq!(
+        base.data(),
+        Pixmap::decode_png(&library).expect("decodes").data()
+    );
+    // Asking for the comb changes pixels, and only next to what the comb alone draws.
+    let mask = inked(&comb);
+    let diff = differing(&base, &with_comb, 0);
+    assert!(!diff.is_empty(), "the comb changed nothing");
+    assert!(mask.iter().filter(|&&m| m).count() > 100);
+    for k in diff {
+        assert!(
+            near(&mask, size.0 as usize, k, 1),
+            "pixel ({}, {}) changed away from the comb",
+            k % size.0 as usize,
+            k / size.0 as usize
+        );
+    }
+    // An unknown layer is a usage error naming the accepted ones.
+    let bad = std::process::Command::new(env!("CARGO_BIN_EXE_kansei"))
+        .args(["fit", &input, "--png"])
+        .arg(dir.join("bad.png"))
+        .args(["--png-layers", "segments,wiggle"])
+        .output()
+        .expect("runs");
+    assert!(!bad.status.success());
+    let stderr = String::from_utf8_lossy(&bad.stderr);
+    assert!(
+        stderr.contains("wiggle") && stderr.contains("comb"),
+        "{stderr}"
+    );
+    let _ = std::fs::remove_dir_all(&dir);
 }

@@ -6,8 +6,8 @@
 mod common;
 
 use common::export::{
-    Element, Piece, children, group, index_of, parse_attr, parse_path, parse_xml,
-    two_sided_distance, view_box,
+    Element, Piece, group, parse_attr, parse_path, parse_subpaths, parse_xml, two_sided_distance,
+    view_box, written_pieces,
 };
 use kansei::export::{
     ALPHA_BLUE_RGB, ALPHA_RED_RGB, ALPHA_ZERO_RGB, LacCurve, MAX_ARC_TURNING, NO_ALPHA_RGB,
@@ -356,43 +356,34 @@ fn document_structure_and_metadata() {
 
     let paths = curve_paths(&elements);
     let chains: Vec<_> = out.curves.iter().filter_map(|c| c.chain.as_ref()).collect();
-    assert_eq!(paths.len(), chains.len());
-    for (path, chain) in paths.iter().zip(&chains) {
+    // One stroke: one path, holding every piece.
+    assert_eq!(paths.len(), 1);
+    assert_eq!(export.paths.len(), 1);
+    assert_eq!(export.paths[0].pieces.len(), chains.len());
+    for path in &paths {
         assert_eq!(path.name, "path");
-        let meta: Vec<&Element> = children(&elements, index_of(&elements, path))
-            .into_iter()
-            .map(|(_, e)| e)
-            .collect();
-        assert_eq!(meta.len(), 1);
-        assert_eq!(meta[0].name, "metadata");
-        let segs: Vec<&Element> = children(&elements, index_of(&elements, meta[0]))
-            .into_iter()
-            .map(|(_, e)| e)
-            .collect();
-        assert_eq!(segs.len(), chain.segments.len());
-        for (e, cs) in segs.iter().zip(&chain.segments) {
-            let s = &cs.segment;
-            assert_eq!(e.name, "kansei:segment");
-            match s.alpha() {
-                Some(a) => assert_eq!(parse_attr(e, "alpha"), a),
-                None => assert_eq!(e.attr("alpha"), Some("null")),
+        assert_eq!(path.attr("data-stroke"), Some("0"));
+        let written = written_pieces(&elements, path);
+        assert_eq!(written.len(), chains.len());
+        for (w, chain) in written.iter().zip(&chains) {
+            assert_eq!(w.segments.len(), chain.segments.len());
+            for ((e, mine), cs) in w.segments.iter().zip(&chain.segments) {
+                let s = &cs.segment;
+                assert_eq!(e.name, "kansei:segment");
+                match s.alpha() {
+                    Some(a) => assert_eq!(parse_attr(e, "alpha"), a),
+                    None => assert_eq!(e.attr("alpha"), Some("null")),
+                }
+                assert_eq!(parse_attr(e, "length"), s.length());
+                assert_eq!(parse_attr(e, "kappa0"), s.kappa0());
+                assert_eq!(parse_attr(e, "kappa1"), s.kappa1());
+                assert_eq!(parse_attr(e, "max-deviation"), cs.max_deviation);
+                assert!(parse_attr(e, "error") <= export.accuracy);
+                // The commands the metadata announces lie within the accuracy of the segment
+                // (measured here, independently).
+                let error = two_sided_distance(s, mine);
+                assert!(error <= export.accuracy, "{error} > {}", export.accuracy);
             }
-            assert_eq!(parse_attr(e, "length"), s.length());
-            assert_eq!(parse_attr(e, "kappa0"), s.kappa0());
-            assert_eq!(parse_attr(e, "kappa1"), s.kappa1());
-            assert_eq!(parse_attr(e, "max-deviation"), cs.max_deviation);
-            assert!(parse_attr(e, "error") <= export.accuracy);
-        }
-        // The commands of the path are those the metadata announces, and each segment's lie
-        // within the accuracy of it (measured here, independently).
-        let pieces = parse_path(path.attr("d").expect("d"));
-        let counts: Vec<usize> = segs
-            .iter()
-            .map(|e| parse_attr(e, "commands") as usize)
-            .collect();
-        for (cs, mine) in chain.segments.iter().zip(per_segment(&pieces, &counts)) {
-            let error = two_sided_distance(&cs.segment, &mine);
-            assert!(error <= export.accuracy, "{error} > {}", export.accuracy);
         }
     }
     // Optional layers.
@@ -442,8 +433,9 @@ fn layers_are_off_by_default_and_units_set_the_size() {
     assert_eq!(fine.accuracy, 0.0005);
     assert!(fine.max_error() <= 0.0005);
     let cubics = |e: &kansei::export::SvgExport| -> usize {
-        e.pieces
+        e.paths
             .iter()
+            .flat_map(|p| &p.pieces)
             .flat_map(|p| &p.segments)
             .map(|s| s.commands)
             .sum()
@@ -472,4 +464,100 @@ fn colour_map() {
         let m = (f64::from(ALPHA_ZERO_RGB[i]) + f64::from(ALPHA_RED_RGB[i])) / 2.0;
         assert!((f64::from(mid[i]) - m).abs() <= 0.5);
     }
+}
+
+#[test]
+fn one_path_per_stroke_with_its_pieces_as_subpaths() {
+    // Three pieces of stroke 0 and one of stroke 1, built from the synthetic chain: pieces 0 and
+    // 1 are its two halves (piece 1 starts exactly where piece 0 ends: it continues the
+    // subpath), piece 2 is the chain's last segment moved away (a new `M`), piece 3 (stroke 1)
+    // the first segment again.
+    let (_, base) = fitted();
+    let template = base.curves[0].clone();
+    let proto = template.chain.as_ref().expect("a chain").segments[0].clone();
+    let all = chain();
+    let moved = {
+        let s = all[all.len() - 1];
+        seg(
+            s.start() + kurbo::Vec2::new(5.0, -3.0),
+            s.theta0(),
+            s.length(),
+            s.alpha(),
+            s.kappa0(),
+            s.kappa1(),
+        )
+    };
+    let piece = |stroke: usize, segments: &[LacSegment]| {
+        let mut c = template.clone();
+        c.stroke = stroke;
+        let chain = c.chain.as_mut().expect("a chain");
+        chain.segments = segments
+            .iter()
+            .map(|s| kansei::chain::ChainSegment {
+                segment: *s,
+                ..proto.clone()
+            })
+            .collect();
+        c
+    };
+    let output = kansei::pipeline::FitOutput {
+        units: Units::Mm,
+        tolerance: base.tolerance,
+        curves: vec![
+            piece(0, &all[..3]),
+            piece(0, &all[3..]),
+            piece(0, &[moved]),
+            piece(1, &all[..1]),
+        ],
+    };
+    let options = SvgOptions::default().with_layers(false, false, true, false);
+    let export = svg_document(&output, None, &options);
+    let elements = parse_xml(&export.svg).unwrap_or_else(|e| panic!("{e}"));
+    let paths = curve_paths(&elements);
+    assert_eq!(paths.len(), 2, "one path per stroke");
+    assert_eq!(
+        export.paths.iter().map(|p| p.stroke).collect::<Vec<_>>(),
+        [0, 1]
+    );
+    // Stroke 0: two subpaths (pieces 0 + 1, then piece 2), its segments tagged with their piece.
+    let d = paths[0].attr("d").expect("d");
+    let subpaths = parse_subpaths(d);
+    assert_eq!(subpaths.len(), 2);
+    assert_eq!(subpaths[0].start, all[0].start());
+    assert_eq!(subpaths[1].start, moved.start());
+    let written = written_pieces(&elements, paths[0]);
+    let summary: Vec<(usize, bool, usize)> = written
+        .iter()
+        .map(|w| (w.piece, w.move_to, w.segments.len()))
+        .collect();
+    assert_eq!(
+        summary,
+        [(0, true, 3), (1, false, all.len() - 3), (2, true, 1)]
+    );
+    let reported: Vec<(usize, bool)> = export.paths[0]
+        .pieces
+        .iter()
+        .map(|p| (p.piece, p.move_to))
+        .collect();
+    assert_eq!(reported, [(0, true), (1, false), (2, true)]);
+    assert_eq!(paths[0].attr("data-pieces"), Some("3"));
+    // Every segment of every piece is within the accuracy of its exact curve.
+    let exact = [&all[..3], &all[3..], &[moved][..]];
+    for (w, segments) in written.iter().zip(exact) {
+        for ((_, mine), s) in w.segments.iter().zip(segments) {
+            let error = two_sided_distance(s, mine);
+            assert!(error <= export.accuracy, "{error} > {}", export.accuracy);
+        }
+    }
+    // Stroke 1: one subpath, one piece (index 3 of the fit's curves).
+    let written = written_pieces(&elements, paths[1]);
+    assert_eq!(written.len(), 1);
+    assert_eq!((written[0].piece, written[0].move_to), (3, true));
+    assert_eq!(paths[1].attr("data-stroke"), Some("1"));
+    // The α layer keeps one path per segment, naming stroke, piece and segment.
+    let (_, alpha) = group(&elements, "alpha");
+    assert_eq!(alpha.len(), all.len() + 2);
+    assert_eq!(alpha[3].attr("data-piece"), Some("1"));
+    assert_eq!(alpha[3].attr("data-stroke"), Some("0"));
+    assert_eq!(alpha[alpha.len() - 1].attr("data-stroke"), Some("1"));
 }

@@ -1,6 +1,7 @@
 //! Exported SVG files render in a real browser: headless Chromium screenshots three exports (two
-//! fixtures in px, one fixture rescaled to mm) and the ink in the screenshot lies where the exact
-//! LAC chain is — along every part of the chain, and nowhere else.
+//! fixtures in px, one fixture rescaled to mm; one `<path>` per stroke, its pieces as subpaths)
+//! and the ink in the screenshot lies where the exact LAC chain is — along every part of the
+//! chain, and nowhere else.
 //!
 //! Skipped with a message when no `chromium` runs here; `.ci/run` installs Debian's `chromium`
 //! and sets `KANSEI_REQUIRE_CHROMIUM=1`, and then a missing or failing browser is a failure.
@@ -274,6 +275,26 @@ fn exported_svgs_render_in_headless_chromium_where_the_chain_is() {
     std::fs::create_dir_all(&dir).expect("temp dir");
     for (name, file, out) in cases() {
         let export = svg_document(&out, Some(&file), &SvgOptions::for_units(file.units));
+        // One <path> per stroke in the curves layer (pieces are its subpaths), each stroke
+        // once: the screenshot below shows every piece of every stroke.
+        let doc = roxmltree::Document::parse(&export.svg).expect("well-formed");
+        let strokes: Vec<usize> = doc
+            .descendants()
+            .filter(|n| n.attribute("id") == Some("curves"))
+            .flat_map(|g| g.children().filter(|c| c.has_tag_name("path")))
+            .map(|p| {
+                let stroke = p.attribute("data-stroke").expect("data-stroke");
+                stroke.parse().expect("a stroke index")
+            })
+            .collect();
+        let mut expected: Vec<usize> = out
+            .curves
+            .iter()
+            .filter(|c| c.chain.is_some())
+            .map(|c| c.stroke)
+            .collect();
+        expected.dedup();
+        assert_eq!(strokes, expected, "{name}: one path per stroke");
         let (view, size) = geometry(&export.svg);
         let size = size.expect("px and mm exports state their size");
         if file.units == Units::Mm {

@@ -28,6 +28,6 @@ pub use svg::{
     ALPHA_BLUE_END, ALPHA_BLUE_RGB, ALPHA_RED_END, ALPHA_RED_RGB, ALPHA_ZERO_RGB,
     ARC_AS_LINE_FRACTION, LAC_CHORD_ERROR_FRACTION, MAX_ARC_TURNING, MAX_POINTS_PER_SEGMENT,
     MAX_TURNING_PER_STEP, NO_ALPHA_RGB, SVG_METADATA_NAMESPACE, SvgElement, SvgExport, SvgOptions,
-    SvgPieceReport, SvgSegmentReport, alpha_colour, chain_path_data, export_accuracy, lac_spacing,
-    svg_document,
+    SvgPathReport, SvgPieceReport, SvgSegmentReport, alpha_colour, chain_path_data,
+    export_accuracy, lac_spacing, svg_document,
 };

@@ -1,16 +1,21 @@
-//! The SVG export: each fitted piece's LAC chain as one `<path>` within a stated error of the
-//! exact curve, with per-segment metadata; optional layers for the raw samples, the B-spline,
-//! the chain coloured by α and the split points.
+//! The SVG export: each stroke's LAC chains as one `<path>` within a stated error of the exact
+//! curve, with per-segment metadata; optional layers for the raw samples, the B-spline, the
+//! chain coloured by α and the split points.
 //!
 //! ```text
 //! <metadata>          <kansei:export units tolerance accuracy error .../>
 //! <g id="samples">    (optional) one <circle> per sample
 //! <g id="bspline">    (optional) one <path> of `C` commands per B-spline, exact (a B-spline
 //!                     span is a cubic Bézier)
-//! <g id="curves">     one <path> per fitted piece (strokes are cut at corners), data-stroke,
-//!                     data-samples, data-error; its <metadata> holds one <kansei:segment> per
-//!                     LAC segment: alpha, length, kappa0, kappa1, max-deviation (to the samples),
-//!                     element (L, A or C), commands, error (of the export)
+//! <g id="curves">     one <path> per stroke: id stroke-N, data-stroke, data-samples (its first
+//!                     and last fitted sample), data-pieces, data-error. A stroke is cut into
+//!                     pieces at corners; each piece is a subpath of the one `d`, except that a
+//!                     piece starting exactly where the previous one ended continues it without
+//!                     a new `M`. The path's <metadata> holds one <kansei:segment> per LAC
+//!                     segment of its pieces: piece (index in the fit's curves, as in the
+//!                     kansei-curve JSON), index (in that piece's chain), alpha, length, kappa0,
+//!                     kappa1, max-deviation (to the samples), samples, element (L, A or C),
+//!                     commands, error (of the export)
 //! <g id="alpha">      (optional) the same commands, one <path> per segment, coloured by α
 //!                     ([`alpha_colour`])
 //! <g id="splits">     (optional) one <rect> square per split point
@@ -283,13 +288,37 @@ pub struct SvgSegmentReport {
     pub error: f64,
 }
 
-/// What was written for one fitted piece.
+/// What was written for one fitted piece: a run of commands inside its stroke's `<path>`.
 #[derive(Clone, Debug, PartialEq)]
 pub struct SvgPieceReport {
+    /// Index of the piece in the fit's curves ([`FitOutput::curves`], and the `curves` of the
+    /// kansei-curve JSON).
+    pub piece: usize,
+    /// Whether the piece opens a subpath with its own `M`; `false` when it starts exactly where
+    /// the previous piece of the path ended and continues that subpath.
+    pub move_to: bool,
+    /// Its segments, in order (segments with a non-finite number are left out).
+    pub segments: Vec<SvgSegmentReport>,
+}
+
+/// What was written for one stroke: one `<path>` of the `curves` layer.
+#[derive(Clone, Debug, PartialEq)]
+pub struct SvgPathReport {
     /// Index of the stroke.
     pub stroke: usize,
-    /// Its segments, in order.
-    pub segments: Vec<SvgSegmentReport>,
+    /// Its pieces, in the order of the fit's curves.
+    pub pieces: Vec<SvgPieceReport>,
+}
+
+impl SvgPathReport {
+    /// The largest measured error over the path's segments.
+    pub fn max_error(&self) -> f64 {
+        self.pieces
+            .iter()
+            .flat_map(|p| &p.segments)
+            .map(|s| s.error)
+            .fold(0.0, f64::max)
+    }
 }
 
 /// An SVG document and what it holds.
@@ -299,17 +328,17 @@ pub struct SvgExport {
     pub svg: String,
     /// The accuracy the curves were written to.
     pub accuracy: f64,
-    /// One report per `<path>` of the `curves` layer (pieces without a chain are left out).
-    pub pieces: Vec<SvgPieceReport>,
+    /// One report per `<path>` of the `curves` layer, in document order: one per stroke with at
+    /// least one fitted piece that has a chain.
+    pub paths: Vec<SvgPathReport>,
 }
 
 impl SvgExport {
     /// The largest measured error over every segment.
     pub fn max_error(&self) -> f64 {
-        self.pieces
+        self.paths
             .iter()
-            .flat_map(|p| &p.segments)
-            .map(|s| s.error)
+            .map(SvgPathReport::max_error)
             .fold(0.0, f64::max)
     }
 }
@@ -484,7 +513,8 @@ fn segment_commands(
 
 /// The path data (`d`) of a chain of segments written to `accuracy`, starting with a move-to
 /// the first segment's start, and what was written for each segment (segments with a
-/// non-finite number are left out). [`svg_document`] writes this for every piece.
+/// non-finite number are left out). [`svg_document`] writes this for every piece (as a
+/// subpath of its stroke's path).
 pub fn chain_path_data(segments: &[LacSegment], accuracy: f64) -> (String, Vec<SvgSegmentReport>) {
     let mut bounds = Bounds(None);
     let mut d = String::new();
@@ -502,8 +532,9 @@ pub fn chain_path_data(segments: &[LacSegment], accuracy: f64) -> (String, Vec<S
     (d, reports)
 }
 
-/// The `<kansei:segment>` element of one segment.
+/// The `<kansei:segment>` element of segment `index` of piece `piece`.
 fn segment_metadata(
+    piece: usize,
     index: usize,
     chain_segment: &crate::chain::ChainSegment,
     report: &SvgSegmentReport,
@@ -513,8 +544,8 @@ fn segment_metadata(
         .alpha()
         .map_or_else(|| "null".to_owned(), |a| a.to_string());
     format!(
-        "<kansei:segment index=\"{index}\" alpha=\"{alpha}\" length=\"{}\" kappa0=\"{}\" \
-         kappa1=\"{}\" max-deviation=\"{}\" samples=\"{} {}\" element=\"{}\" commands=\"{}\" \
+        "<kansei:segment piece=\"{piece}\" index=\"{index}\" alpha=\"{alpha}\" length=\"{}\" \
+         kappa0=\"{}\" kappa1=\"{}\" max-deviation=\"{}\" samples=\"{} {}\" element=\"{}\" commands=\"{}\" \
          error=\"{}\"/>\n",
         s.length(),
         s.kappa0(),
@@ -526,6 +557,21 @@ fn segment_metadata(
         report.commands,
         report.error
     )
+}
+
+/// The fit's pieces (indices into [`FitOutput::curves`]) grouped by stroke: strokes in the order
+/// of their first piece, pieces in the fit's order.
+fn pieces_by_stroke(output: &FitOutput) -> Vec<(usize, Vec<usize>)> {
+    let mut groups: Vec<(usize, Vec<usize>)> = Vec::new();
+    for (piece, fit) in output.curves.iter().enumerate() {
+        // Pieces of a stroke are consecutive in a pipeline's output, so the last group is
+        // nearly always the one; the search covers outputs assembled otherwise (the app's).
+        match groups.iter_mut().rev().find(|(s, _)| *s == fit.stroke) {
+            Some((_, members)) => members.push(piece),
+            None => groups.push((fit.stroke, vec![piece])),
+        }
+    }
+    groups
 }
 
 /// Writes the SVG of a fit (see the module documentation). `strokes` supplies the raw samples
@@ -540,7 +586,7 @@ pub fn svg_document(
     let width = o.line_width;
     let halo = 2.0 * width;
     let mut bounds = Bounds(None);
-    let mut pieces = Vec::new();
+    let mut paths = Vec::new();
 
     let mut curves = format!(
         "<g id=\"curves\" fill=\"none\" stroke=\"#000000\" stroke-width=\"{width}\" \
@@ -550,54 +596,91 @@ pub fn svg_document(
         "<g id=\"alpha\" fill=\"none\" stroke-width=\"{width}\" stroke-linejoin=\"round\" \
          stroke-linecap=\"round\">\n"
     );
-    for (piece, fit) in output.curves.iter().enumerate() {
-        let Some(chain) = fit.chain.as_ref() else {
-            continue;
-        };
-        let Some(first) = chain.segments.first() else {
-            continue;
-        };
-        let start = first.segment.start();
-        if !finite(start) {
-            continue;
-        }
-        let mut d = String::from("M");
-        push_xy(&mut d, start);
+    for (stroke, members) in pieces_by_stroke(output) {
+        let mut d = String::new();
         let mut metadata = String::new();
-        let mut reports = Vec::new();
-        let mut pen = start;
-        for (i, cs) in chain.segments.iter().enumerate() {
-            let Some((commands, report)) =
-                segment_commands(&cs.segment, accuracy, &mut bounds, 0.5 * width)
-            else {
+        let mut piece_reports = Vec::new();
+        let mut samples: Option<(usize, usize)> = None;
+        // Where the path's pen is: `None` before the first move-to and after a segment left out.
+        let mut pen: Option<Point> = None;
+        for piece in members {
+            let fit = &output.curves[piece];
+            let Some(chain) = fit.chain.as_ref() else {
                 continue;
             };
-            d.push_str(&commands);
-            metadata.push_str(&segment_metadata(i, cs, &report));
-            if o.show_alpha {
-                let [r, g, b] = alpha_colour(cs.segment.alpha());
-                let mut seg_d = String::from("M");
-                push_xy(&mut seg_d, pen);
-                let _ = writeln!(
-                    alpha_layer,
-                    "<path d=\"{seg_d}{commands}\" stroke=\"#{r:02x}{g:02x}{b:02x}\" \
-                     data-piece=\"{piece}\" data-segment=\"{i}\"/>"
-                );
+            let Some(first) = chain.segments.first() else {
+                continue;
+            };
+            let start = first.segment.start();
+            if !finite(start) {
+                continue;
             }
-            pen = cs.segment.end();
-            reports.push(report);
+            // A piece continues the subpath only when it starts exactly where it ended (the
+            // written numbers then repeat a point already written): any gap, however small,
+            // would bend the piece's first command away from its exact segment.
+            let move_to = pen != Some(start);
+            if move_to {
+                d.push_str(if d.is_empty() { "M" } else { " M" });
+                push_xy(&mut d, start);
+                pen = Some(start);
+            }
+            let mut reports = Vec::new();
+            for (i, cs) in chain.segments.iter().enumerate() {
+                let seg_start = cs.segment.start();
+                let Some((commands, report)) =
+                    segment_commands(&cs.segment, accuracy, &mut bounds, 0.5 * width)
+                else {
+                    pen = None;
+                    continue;
+                };
+                // After a segment left out, the next one opens a subpath at its own start.
+                let Some(from) = pen.or_else(|| finite(seg_start).then_some(seg_start)) else {
+                    continue;
+                };
+                if pen.is_none() {
+                    d.push_str(" M");
+                    push_xy(&mut d, from);
+                }
+                d.push_str(&commands);
+                metadata.push_str(&segment_metadata(piece, i, cs, &report));
+                if o.show_alpha {
+                    let [r, g, b] = alpha_colour(cs.segment.alpha());
+                    let mut seg_d = String::from("M");
+                    push_xy(&mut seg_d, from);
+                    let _ = writeln!(
+                        alpha_layer,
+                        "<path d=\"{seg_d}{commands}\" stroke=\"#{r:02x}{g:02x}{b:02x}\" \
+                         data-stroke=\"{stroke}\" data-piece=\"{piece}\" data-segment=\"{i}\"/>"
+                    );
+                }
+                pen = Some(cs.segment.end());
+                reports.push(report);
+            }
+            samples = Some(samples.map_or(fit.samples, |(a, b)| {
+                (a.min(fit.samples.0), b.max(fit.samples.1))
+            }));
+            piece_reports.push(SvgPieceReport {
+                piece,
+                move_to,
+                segments: reports,
+            });
         }
-        let error = reports.iter().map(|r| r.error).fold(0.0, f64::max);
+        let Some((first_sample, last_sample)) = samples else {
+            continue;
+        };
+        let report = SvgPathReport {
+            stroke,
+            pieces: piece_reports,
+        };
         let _ = write!(
             curves,
-            "<path id=\"curve-{piece}\" data-stroke=\"{}\" data-samples=\"{} {}\" \
-             data-error=\"{error}\" d=\"{d}\">\n<metadata>\n{metadata}</metadata>\n</path>\n",
-            fit.stroke, fit.samples.0, fit.samples.1
+            "<path id=\"stroke-{stroke}\" data-stroke=\"{stroke}\" \
+             data-samples=\"{first_sample} {last_sample}\" data-pieces=\"{}\" \
+             data-error=\"{}\" d=\"{d}\">\n<metadata>\n{metadata}</metadata>\n</path>\n",
+            report.pieces.len(),
+            report.max_error()
         );
-        pieces.push(SvgPieceReport {
-            stroke: fit.stroke,
-            segments: reports,
-        });
+        paths.push(report);
     }
     curves.push_str("</g>\n");
     alpha_layer.push_str("</g>\n");
@@ -689,7 +772,7 @@ pub fn svg_document(
     let export = SvgExport {
         svg: String::new(),
         accuracy,
-        pieces,
+        paths,
     };
     let mut svg = String::with_capacity(body.len() + 1024);
     svg.push_str("<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n");

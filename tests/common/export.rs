@@ -251,13 +251,20 @@ impl Piece {
     }
 }
 
-/// Parses the path data the SVG writer produces (`M`, then `L`, `A`, `C` with absolute
-/// coordinates) into exact pieces; `A` through kurbo's own SVG-arc conversion (endpoint to
-/// centre parametrisation). Also checks that kurbo's `BezPath::from_svg` reads the same data
-/// and ends at the same point.
-pub fn parse_path(d: &str) -> Vec<Piece> {
+/// One subpath of a path's data: where its move-to put the pen, and its commands.
+#[derive(Clone, Debug)]
+pub struct Subpath {
+    pub start: Point,
+    pub pieces: Vec<Piece>,
+}
+
+/// Parses the path data the SVG writer produces (subpaths, each an `M` then `L`, `A`, `C` with
+/// absolute coordinates) into exact pieces, split at every `M`; `A` through kurbo's own SVG-arc
+/// conversion (endpoint to centre parametrisation). Also checks that kurbo's
+/// `BezPath::from_svg` reads the same data: as many subpaths, each ending at the same point.
+pub fn parse_subpaths(d: &str) -> Vec<Subpath> {
     let kurbo_path = BezPath::from_svg(d).unwrap_or_else(|e| panic!("kurbo rejects {d:?}: {e}"));
-    let mut out = Vec::new();
+    let mut out: Vec<Subpath> = Vec::new();
     let mut pen: Option<Point> = None;
     let toks: Vec<&str> = d.split_whitespace().collect();
     let mut i = 0;
@@ -269,24 +276,27 @@ pub fn parse_path(d: &str) -> Vec<Piece> {
     while i < toks.len() {
         let cmd = toks[i];
         i += 1;
-        match cmd {
+        let piece = match cmd {
             "M" => {
-                assert!(pen.is_none(), "a second move-to in {d:?}");
-                pen = Some(Point::new(num(&mut i), num(&mut i)));
+                let p = Point::new(num(&mut i), num(&mut i));
+                out.push(Subpath {
+                    start: p,
+                    pieces: Vec::new(),
+                });
+                pen = Some(p);
+                continue;
             }
             "L" => {
                 let p0 = pen.expect("move-to first");
                 let p1 = Point::new(num(&mut i), num(&mut i));
-                out.push(Piece::Line(Line::new(p0, p1)));
-                pen = Some(p1);
+                Piece::Line(Line::new(p0, p1))
             }
             "C" => {
                 let p0 = pen.expect("move-to first");
                 let p1 = Point::new(num(&mut i), num(&mut i));
                 let p2 = Point::new(num(&mut i), num(&mut i));
                 let p3 = Point::new(num(&mut i), num(&mut i));
-                out.push(Piece::Cubic(CubicBez::new(p0, p1, p2, p3)));
-                pen = Some(p3);
+                Piece::Cubic(CubicBez::new(p0, p1, p2, p3))
             }
             "A" => {
                 let from = pen.expect("move-to first");
@@ -301,19 +311,108 @@ pub fn parse_path(d: &str) -> Vec<Piece> {
                     large_arc: large == 1.0,
                     sweep: sweep == 1.0,
                 };
-                let arc = Arc::from_svg_arc(&arc).expect("a proper arc");
-                out.push(Piece::Arc(arc));
-                pen = Some(to);
+                Piece::Arc(Arc::from_svg_arc(&arc).expect("a proper arc"))
             }
             other => panic!("unexpected command {other:?} in {d:?}"),
+        };
+        pen = Some(piece.end());
+        out.last_mut().expect("move-to first").pieces.push(piece);
+    }
+    // kurbo sees the same subpaths, ending at the same points.
+    let mut kurbo_subpaths: Vec<Option<Point>> = Vec::new();
+    for el in kurbo_path.elements() {
+        match el {
+            kurbo::PathEl::MoveTo(_) => kurbo_subpaths.push(None),
+            kurbo::PathEl::LineTo(p)
+            | kurbo::PathEl::QuadTo(_, p)
+            | kurbo::PathEl::CurveTo(_, _, p) => {
+                *kurbo_subpaths.last_mut().expect("move-to first") = Some(*p);
+            }
+            kurbo::PathEl::ClosePath => panic!("the writer never closes a path"),
         }
     }
-    let end = kurbo_path
-        .segments()
-        .last()
-        .map(|s| kurbo::ParamCurve::end(&s));
-    if let (Some(end), Some(last)) = (end, out.last()) {
-        assert!(end.distance(last.end()) <= 1e-9 * (1.0 + end.to_vec2().hypot()));
+    assert_eq!(kurbo_subpaths.len(), out.len(), "subpaths in {d:?}");
+    for (end, sub) in kurbo_subpaths.iter().zip(&out) {
+        if let (Some(end), Some(last)) = (end, sub.pieces.last()) {
+            assert!(end.distance(last.end()) <= 1e-9 * (1.0 + end.to_vec2().hypot()));
+        }
+    }
+    out
+}
+
+/// Parses path data of one subpath (see [`parse_subpaths`]) into its pieces.
+pub fn parse_path(d: &str) -> Vec<Piece> {
+    let mut subpaths = parse_subpaths(d);
+    assert_eq!(subpaths.len(), 1, "one subpath expected in {d:?}");
+    subpaths.remove(0).pieces
+}
+
+/// One fitted piece as written in its stroke's `<path>`: its index in the fit's curves, whether
+/// it opened a subpath with its own `M` (else it continues the previous piece's), and its
+/// segments' `<kansei:segment>` elements, each with the commands written for it.
+#[derive(Clone, Debug)]
+pub struct WrittenPiece<'a> {
+    pub piece: usize,
+    pub move_to: bool,
+    pub segments: Vec<(&'a Element, Vec<Piece>)>,
+}
+
+/// Reads a stroke's `<path>` (element `path` of `elements`) back into its pieces: the path data
+/// is split into subpaths at every `M` ([`parse_subpaths`]), the segments' metadata grouped by
+/// their `piece` attribute, and each segment given the number of commands its `commands`
+/// attribute announces, in order. Asserts that every subpath begins with a piece (a move-to
+/// never falls inside a piece), that no subpath is empty and that no command is left over.
+pub fn written_pieces<'a>(elements: &'a [Element], path: &Element) -> Vec<WrittenPiece<'a>> {
+    let subpaths = parse_subpaths(path.attr("d").expect("d"));
+    // Every command in order, with whether it opens a subpath.
+    let mut commands: Vec<(bool, Piece)> = Vec::new();
+    for sub in &subpaths {
+        assert!(!sub.pieces.is_empty(), "an empty subpath");
+        for (i, p) in sub.pieces.iter().enumerate() {
+            commands.push((i == 0, *p));
+        }
+    }
+    let meta = children(elements, index_of(elements, path));
+    assert_eq!(meta.len(), 1, "one <metadata> per path");
+    assert_eq!(meta[0].1.name, "metadata");
+    let mut out: Vec<WrittenPiece<'a>> = Vec::new();
+    let mut at = 0;
+    for (_, e) in children(elements, meta[0].0) {
+        assert_eq!(e.name, "kansei:segment");
+        let piece = parse_attr(e, "piece") as usize;
+        let n = parse_attr(e, "commands") as usize;
+        assert!(
+            at + n <= commands.len(),
+            "more commands announced than written"
+        );
+        let mine: Vec<Piece> = commands[at..at + n].iter().map(|c| c.1).collect();
+        let opens = (at..at + n).filter(|&k| commands[k].0).collect::<Vec<_>>();
+        match out.last_mut().filter(|w| w.piece == piece) {
+            Some(w) => {
+                assert!(opens.is_empty(), "a move-to inside piece {piece}");
+                w.segments.push((e, mine));
+            }
+            None => {
+                assert!(
+                    out.last().is_none_or(|w| w.piece < piece),
+                    "pieces out of order"
+                );
+                assert!(
+                    opens.iter().all(|&k| k == at),
+                    "a move-to inside piece {piece}"
+                );
+                out.push(WrittenPiece {
+                    piece,
+                    move_to: opens == [at],
+                    segments: vec![(e, mine)],
+                });
+            }
+        }
+        at += n;
+    }
+    assert_eq!(at, commands.len(), "commands left over");
+    if let Some(first) = out.first() {
+        assert!(first.move_to, "a path begins with a move-to");
     }
     out
 }
