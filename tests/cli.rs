@@ -151,6 +151,45 @@ fn alpha_can_be_fixed_or_limited_and_svg_and_dxf_written() {
 }
 
 #[test]
+fn an_export_that_misses_its_accuracy_says_so_and_states_what_holds() {
+    // A hook segment asked for 1e-7 px: beyond the exporter's work bound per segment, so the
+    // SVG is written with the error it has, the CLI warns, and the file's comment states a
+    // bound that holds (the larger of the accuracy and the measured error).
+    let dir = std::env::temp_dir().join(format!("kansei-cli-accuracy-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).expect("temp dir");
+    let svg = dir.join("hey.svg");
+    let out = run_ok(kansei().args([
+        "fit",
+        &fixture("perfect-freehand-hey"),
+        "--export-accuracy",
+        "1e-7",
+        "--json",
+        dir.join("hey.json").to_str().expect("utf-8"),
+        "--svg",
+        svg.to_str().expect("utf-8"),
+    ]));
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        stderr.contains("exceeds the accuracy 1.0000e-7"),
+        "{stderr}"
+    );
+    let text = std::fs::read_to_string(&svg).expect("the SVG is written");
+    let number = |after: &str, until: char| -> f64 {
+        let start = text.find(after).expect(after) + after.len();
+        text[start..]
+            .split(until)
+            .next()
+            .expect("a number")
+            .parse()
+            .expect("a number")
+    };
+    let error = number("error=\"", '"');
+    assert!(error > 1e-7, "{error}");
+    assert_eq!(number("spirals are cubic Beziers within ", ' '), error);
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+#[test]
 fn fit_writes_one_file_per_input_into_a_directory() {
     let dir = std::env::temp_dir().join(format!("kansei-cli-{}", std::process::id()));
     run_ok(

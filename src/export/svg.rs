@@ -781,8 +781,11 @@ pub fn svg_document(
         "<!-- kansei: log-aesthetic curve chains. Coordinates are the data's own, in {units}; the \
          y axis is not flipped: SVG's y points down, so a y-up drawing appears mirrored top to \
          bottom. Lines and circular arcs are exact (L, A); spirals are cubic Beziers within \
-         {accuracy} {units} of the exact curve. -->",
-        units = output.units.name()
+         {within} {units} of the exact curve. -->",
+        units = output.units.name(),
+        // The accuracy asked for, or the measured error where a segment beyond the exporter's
+        // work bound misses it: the comment states what holds.
+        within = accuracy.max(export.max_error())
     );
     let _ = writeln!(
         svg,
