@@ -954,7 +954,7 @@ fn every_fixture_png_through_the_cli_path_lies_on_its_chain() {
         assert!(inked > 100, "{name}: {inked} inked pixels");
         figures.push(format!("{name}: {inked} px, farthest {farthest:.3}"));
     }
-    assert_eq!(figures.len(), 8, "every fixture: {figures:?}");
+    assert!(figures.len() >= 9, "every fixture: {figures:?}");
     println!(
         "{}×{} px, every inked pixel within {:.3} px of the chain, ink beside every chain point: {}",
         FIXTURE_PNG_SIZE.0,
