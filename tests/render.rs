@@ -133,6 +133,19 @@ fn check_golden(name: &str, pixmap: &Pixmap) {
     }
 }
 
+/// Every pixel index in `diff` (an image `width` wide) lies within one pixel of an inked pixel of
+/// `mask`: what `what` changed, it changed only where it draws.
+fn assert_changed_only_near(mask: &[bool], width: usize, diff: &[usize], what: &str) {
+    for &k in diff {
+        assert!(
+            near(mask, width, k, 1),
+            "{what}: pixel ({}, {}) changed, away from what it draws",
+            k % width,
+            k / width
+        );
+    }
+}
+
 #[test]
 fn golden_spring_default_overlays_with_a_highlight() {
     let file = common::fixture("google-ink-spring");
@@ -438,14 +451,7 @@ fn toggling_an_overlay_changes_pixels_only_where_it_draws() {
             .collect();
         let diff = differing(&full, &partial, 0);
         assert!(!diff.is_empty(), "{name}: toggling changed nothing");
-        for k in diff {
-            assert!(
-                near(&mask, size.0 as usize, k, 1),
-                "{name}: pixel ({}, {}) changed, away from what the overlay draws",
-                k % size.0 as usize,
-                k / size.0 as usize
-            );
-        }
+        assert_changed_only_near(&mask, size.0 as usize, &diff, name);
     }
     // The highlight likewise.
     let lit = draw(
@@ -1010,14 +1016,7 @@ fn cli_png_layers_draw_the_overlays_named_and_the_comb_only_where_it_draws() {
     let diff = differing(&base, &with_comb, 0);
     assert!(!diff.is_empty(), "the comb changed nothing");
     assert!(mask.iter().filter(|&&m| m).count() > 100);
-    for k in diff {
-        assert!(
-            near(&mask, size.0 as usize, k, 1),
-            "pixel ({}, {}) changed away from the comb",
-            k % size.0 as usize,
-            k / size.0 as usize
-        );
-    }
+    assert_changed_only_near(&mask, size.0 as usize, &diff, "comb");
     // An unknown layer is a usage error naming the accepted ones.
     let bad = std::process::Command::new(env!("CARGO_BIN_EXE_kansei"))
         .args(["fit", &input, "--png"])
