@@ -599,23 +599,22 @@ const WARNED_LINES: usize = 3;
 /// An evemu recording's skipped lines, values and frames, each count with its first lines.
 fn warn_evemu(path: &Path, stats: &crate::capture::evemu::EvemuStats) {
     use crate::capture::evemu::EvemuProblem;
-    let kinds: [(usize, &str, fn(&EvemuProblem) -> bool); 3] = [
-        (stats.garbage_lines, "lines that do not parse", |p| {
-            matches!(p, EvemuProblem::Garbage)
-        }),
-        (stats.out_of_range, "values out of their axis range", |p| {
-            matches!(p, EvemuProblem::OutOfRange(_))
-        }),
-        (stats.dropped_frames, "frames dropped (SYN_DROPPED)", |p| {
-            matches!(p, EvemuProblem::Dropped)
-        }),
+    let kinds = [
+        (stats.garbage_lines, "lines that do not parse"),
+        (stats.out_of_range, "values out of their axis range"),
+        (stats.dropped_frames, "frames dropped (SYN_DROPPED)"),
     ];
-    for (count, what, is) in kinds {
+    let kind = |p: &EvemuProblem| match p {
+        EvemuProblem::Garbage => 0,
+        EvemuProblem::OutOfRange(_) => 1,
+        EvemuProblem::Dropped => 2,
+    };
+    for (k, (count, what)) in kinds.into_iter().enumerate() {
         if count == 0 {
             continue;
         }
         eprintln!("warning: {}: {count} {what} skipped", path.display());
-        let first = stats.warnings.iter().filter(|w| is(&w.problem));
+        let first = stats.warnings.iter().filter(|w| kind(&w.problem) == k);
         for w in first.take(WARNED_LINES) {
             eprintln!("  line {}: {}", w.line, w.problem);
         }

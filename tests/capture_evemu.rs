@@ -139,8 +139,14 @@ E: 0.020000 0000 0000 0000
     let s = &file.strokes[0].samples;
     assert_eq!(s.len(), 2);
     // X keeps 200 (not 2147483647) and pressure 4000 through the rejected frame.
-    assert_eq!((s[0].x, s[0].y), (200.0 / COUNTS_PER_MM, 100.0 / COUNTS_PER_MM));
-    assert_eq!((s[1].x, s[1].y), (200.0 / COUNTS_PER_MM, 300.0 / COUNTS_PER_MM));
+    assert_eq!(
+        (s[0].x, s[0].y),
+        (200.0 / COUNTS_PER_MM, 100.0 / COUNTS_PER_MM)
+    );
+    assert_eq!(
+        (s[1].x, s[1].y),
+        (200.0 / COUNTS_PER_MM, 300.0 / COUNTS_PER_MM)
+    );
     assert_eq!(s[1].t, Some(0.015));
     let p = Some(4000.0 / PRESSURE_MAX);
     assert_eq!((s[0].pressure, s[1].pressure), (p, p));
@@ -153,9 +159,11 @@ E: 0.020000 0000 0000 0000
         .map(|i| first + i)
         .collect();
     assert_eq!(lines, expected);
-    assert!(stats.warnings[..8]
-        .iter()
-        .all(|w| w.problem == EvemuProblem::Garbage));
+    assert!(
+        stats.warnings[..8]
+            .iter()
+            .all(|w| w.problem == EvemuProblem::Garbage)
+    );
     assert_eq!(
         stats.warnings[9].problem,
         EvemuProblem::OutOfRange(OutOfRange {

@@ -106,7 +106,8 @@ const TILT_MAX: i64 = 63;
 fn values_outside_the_logical_range_are_refused_naming_field_and_value() {
     let layout = wacom_layout();
     // (bytes to overwrite at, with, field, value read, byte, min, max)
-    let cases: [(usize, &[u8], &str, i64, usize, i64, i64); 4] = [
+    type Case = (usize, &'static [u8], &'static str, i64, usize, i64, i64);
+    let cases: [Case; 4] = [
         (2, &[0xff, 0xff, 0xff], "X", 0xFF_FFFF, 2, 0, X_MAX),
         (2, &[0x01, 0xaf, 0x00], "X", X_MAX + 1, 2, 0, X_MAX),
         (8, &[0xff, 0xff], "Tip Pressure", 0xFFFF, 8, 0, PRESSURE_MAX),
@@ -128,7 +129,10 @@ fn values_outside_the_logical_range_are_refused_naming_field_and_value() {
             }
         );
         let msg = err.to_string();
-        assert!(msg.contains(field) && msg.contains(&value.to_string()), "{msg}");
+        assert!(
+            msg.contains(field) && msg.contains(&value.to_string()),
+            "{msg}"
+        );
     }
     // The range's ends themselves decode.
     let mut report = PEN_REPORT;

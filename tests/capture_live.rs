@@ -406,7 +406,11 @@ fn sigterm_mid_stroke_saves_the_stroke_in_progress() {
     use std::time::Duration;
 
     let reference = replayed();
-    let end_of_first = reference[0].samples.last().and_then(|s| s.t).expect("timed");
+    let end_of_first = reference[0]
+        .samples
+        .last()
+        .and_then(|s| s.t)
+        .expect("timed");
     let second = &reference[1].samples;
     let (start, end) = (
         second[0].t.expect("timed"),
@@ -437,11 +441,18 @@ fn sigterm_mid_stroke_saves_the_stroke_in_progress() {
     let o = child.wait_with_output().expect("exits");
     assert!(o.status.success(), "{:?}: {rest:?}", o.status);
     let stdout = String::from_utf8_lossy(&o.stdout);
-    assert!(stdout.contains("2 strokes (the last one interrupted)"), "{stdout}");
+    assert!(
+        stdout.contains("2 strokes (the last one interrupted)"),
+        "{stdout}"
+    );
     let file = read_file(&out);
     assert_eq!(file.strokes.len(), 2);
     assert_eq!(file.strokes[0], reference[0]);
     let partial = &file.strokes[1].samples;
-    assert!(partial.len() > 1 && partial.len() < second.len(), "{}", partial.len());
+    assert!(
+        partial.len() > 1 && partial.len() < second.len(),
+        "{}",
+        partial.len()
+    );
     assert_eq!(partial[..], second[..partial.len()]);
 }

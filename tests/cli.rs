@@ -306,17 +306,20 @@ fn replay_warnings_name_counts_and_lines() {
     ] {
         assert!(err.contains(&expected), "{expected:?} not in {err}");
     }
-    let file = kansei::stroke::StrokeFile::from_json(&std::fs::read_to_string(&out_json).expect("written"))
-        .expect("valid");
+    let file = kansei::stroke::StrokeFile::from_json(
+        &std::fs::read_to_string(&out_json).expect("written"),
+    )
+    .expect("valid");
     assert_eq!(file.strokes.len(), 2);
     assert_eq!(
         file.device.expect("present")["eraser_strokes"],
         serde_json::json!([1])
     );
 
-    let hid_text =
-        std::fs::read_to_string(format!("{root}/fixtures/hid/pen-three-vertical-strokes.hid"))
-            .expect("fixture");
+    let hid_text = std::fs::read_to_string(format!(
+        "{root}/fixtures/hid/pen-three-vertical-strokes.hid"
+    ))
+    .expect("fixture");
     let hid_text = hid_text.replacen(
         "I: 3 056a 0357\n",
         "I: 3 056a 0357\nnonsense\nE: 0.0 27 10 61 ff ff ff f0 2c 00 ea 14 24 00 00 00 00 00 00 06 9c 36 80 23 02 08 11 00 02\n",

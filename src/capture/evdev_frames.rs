@@ -262,9 +262,12 @@ impl EvdevPen {
             }
             (EV_ABS, ABS_X) => self.axis("ABS_X", Some(self.axes.x), |s| &mut s.x, value),
             (EV_ABS, ABS_Y) => self.axis("ABS_Y", Some(self.axes.y), |s| &mut s.y, value),
-            (EV_ABS, ABS_PRESSURE) => {
-                self.axis("ABS_PRESSURE", self.axes.pressure, |s| &mut s.pressure, value)
-            }
+            (EV_ABS, ABS_PRESSURE) => self.axis(
+                "ABS_PRESSURE",
+                self.axes.pressure,
+                |s| &mut s.pressure,
+                value,
+            ),
             (EV_ABS, ABS_TILT_X) => {
                 self.axis("ABS_TILT_X", self.axes.tilt_x, |s| &mut s.tilt_x, value)
             }
@@ -508,10 +511,16 @@ mod tests {
         let r = report(frame(&mut pen, &[]));
         assert_eq!((r.raw_x, r.raw_y, r.raw_pressure), (2000, 1200, Some(4095)));
         // The range's ends are in range.
-        let r = report(frame(&mut pen, &[(EV_ABS, ABS_X, 44800), (EV_ABS, ABS_PRESSURE, 0)]));
+        let r = report(frame(
+            &mut pen,
+            &[(EV_ABS, ABS_X, 44800), (EV_ABS, ABS_PRESSURE, 0)],
+        ));
         assert_eq!((r.x_mm, r.pressure), (224.0, Some(0.0)));
         let stats = pen.stats();
-        assert_eq!((stats.out_of_range, stats.rejected_frames, stats.frames), (2, 1, 4));
+        assert_eq!(
+            (stats.out_of_range, stats.rejected_frames, stats.frames),
+            (2, 1, 4)
+        );
     }
 
     #[test]

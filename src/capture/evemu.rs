@@ -281,19 +281,21 @@ impl EvemuRecording {
             if line.is_empty() {
                 continue;
             }
-            let parsed = line.split_once(':').and_then(|(prefix, rest)| match prefix {
-                "N" => {
-                    rec.name = Some(rest.trim().to_owned());
-                    Some(())
-                }
-                "I" => parse_ids(rest).map(|v| rec.ids = Some(v)),
-                "A" => parse_axis(rest).map(|(code, axis)| {
-                    rec.axes.insert(code, axis);
-                }),
-                "P" | "B" | "L" | "S" | "R" => Some(()),
-                "E" => parse_event(line_no, rest).map(|e| rec.events.push(e)),
-                _ => None,
-            });
+            let parsed = line
+                .split_once(':')
+                .and_then(|(prefix, rest)| match prefix {
+                    "N" => {
+                        rec.name = Some(rest.trim().to_owned());
+                        Some(())
+                    }
+                    "I" => parse_ids(rest).map(|v| rec.ids = Some(v)),
+                    "A" => parse_axis(rest).map(|(code, axis)| {
+                        rec.axes.insert(code, axis);
+                    }),
+                    "P" | "B" | "L" | "S" | "R" => Some(()),
+                    "E" => parse_event(line_no, rest).map(|e| rec.events.push(e)),
+                    _ => None,
+                });
             if parsed.is_none() {
                 rec.garbage_lines.push(line_no);
             }

@@ -237,7 +237,9 @@ impl PenSource for LiveEvdev {
                 let stamp = event.timestamp();
                 let first = *self.first.get_or_insert(stamp);
                 let t = stamp.duration_since(first).map_or(0.0, |d| d.as_secs_f64());
-                let decoded = match self.pen.feed(event.event_type().0, event.code(), event.value())
+                let decoded = match self
+                    .pen
+                    .feed(event.event_type().0, event.code(), event.value())
                 {
                     EvdevOutcome::Frame(FrameEnd::Report(report)) => Decoded::Pen(report),
                     // Counted by the capture loop as a report that did not decode; its frame
