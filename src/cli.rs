@@ -88,6 +88,10 @@ pub struct CaptureArgs {
     /// Testing: with --from-recording, fail after this many reports as an unplugged tablet.
     #[arg(long, hide = true, requires = "from_recording")]
     pub fail_after_reports: Option<usize>,
+    /// Testing: with --from-recording, deliver the reports at this times their recorded pace
+    /// (a tablet being drawn on, so that a signal can arrive mid-stroke).
+    #[arg(long, hide = true, requires = "from_recording")]
+    pub pace: Option<f64>,
 }
 
 /// `kansei replay`.
@@ -408,7 +412,7 @@ fn open_live(
     ))
 }
 
-/// Set by the Ctrl-C handler; the capture loop polls it at least every 0.1 s.
+/// Set by the Ctrl-C/SIGTERM/SIGHUP handler; the capture loop polls it at least every 0.1 s.
 static STOP: std::sync::atomic::AtomicBool = std::sync::atomic::AtomicBool::new(false);
 
 /// `kansei capture`.
@@ -440,7 +444,13 @@ fn capture(args: &CaptureArgs, out: &mut dyn std::io::Write) -> Result<(), CliEr
             if let Some(n) = args.fail_after_reports {
                 s = s.fail_after(n);
             }
-            Box::new(s)
+            match args.pace {
+                Some(speed) => Box::new(
+                    crate::capture::paced::Paced::new(s, speed)
+                        .map_err(|e| capture_error(e.to_string()))?,
+                ),
+                None => Box::new(s),
+            }
         }
         None => open_live(args.device.as_deref())?,
     };
@@ -520,11 +530,14 @@ fn capture(args: &CaptureArgs, out: &mut dyn std::io::Write) -> Result<(), CliEr
     }
 }
 
-/// Ctrl-C sets [`STOP`]: the capture then writes the stroke in progress and exits normally.
+/// Ctrl-C (SIGINT), SIGTERM and SIGHUP set [`STOP`] (the `ctrlc` crate with its `termination`
+/// feature): the capture then writes the stroke in progress and exits normally.
 #[cfg(feature = "live")]
 fn install_ctrlc() {
     if let Err(e) = ctrlc::set_handler(|| STOP.store(true, std::sync::atomic::Ordering::Relaxed)) {
-        eprintln!("warning: no Ctrl-C handler ({e}): Ctrl-C will lose the stroke in progress");
+        eprintln!(
+            "warning: no Ctrl-C/SIGTERM handler ({e}): a signal will lose the stroke in progress"
+        );
     }
 }
 
@@ -557,7 +570,10 @@ pub fn read_strokes(path: &Path) -> Result<StrokeFile, CliError> {
                     path.display(),
                     stats.warnings()
                 );
-                for (line, error) in stats.first_decode_errors.iter().take(3) {
+                for w in stats.first_recorder_warnings.iter().take(WARNED_LINES) {
+                    eprintln!("  line {}: {}", w.line, w.message);
+                }
+                for (line, error) in stats.first_decode_errors.iter().take(WARNED_LINES) {
                     eprintln!("  line {line}: {error}");
                 }
             }
@@ -574,12 +590,41 @@ pub fn read_strokes(path: &Path) -> Result<StrokeFile, CliError> {
             if erasers > 0 {
                 eprintln!("note: {}: {erasers} eraser strokes", path.display());
             }
+            warn_evemu(path, &stats);
             Ok(file)
         }
         _ => StrokeFile::from_json(&text).map_err(|source| CliError::Stroke {
             path: path.to_owned(),
             source,
         }),
+    }
+}
+
+/// Skipped lines printed with their numbers per kind of warning; the rest are counted.
+const WARNED_LINES: usize = 3;
+
+/// An evemu recording's skipped lines, values and frames, each count with its first lines.
+fn warn_evemu(path: &Path, stats: &crate::capture::evemu::EvemuStats) {
+    use crate::capture::evemu::EvemuProblem;
+    let kinds = [
+        (stats.garbage_lines, "lines that do not parse"),
+        (stats.out_of_range, "values out of their axis range"),
+        (stats.dropped_frames, "frames dropped (SYN_DROPPED)"),
+    ];
+    let kind = |p: &EvemuProblem| match p {
+        EvemuProblem::Garbage => 0,
+        EvemuProblem::OutOfRange(_) => 1,
+        EvemuProblem::Dropped => 2,
+    };
+    for (k, (count, what)) in kinds.into_iter().enumerate() {
+        if count == 0 {
+            continue;
+        }
+        eprintln!("warning: {}: {count} {what} skipped", path.display());
+        let first = stats.warnings.iter().filter(|w| kind(&w.problem) == k);
+        for w in first.take(WARNED_LINES) {
+            eprintln!("  line {}: {}", w.line, w.problem);
+        }
     }
 }
 

@@ -1,7 +1,10 @@
 //! evemu recordings: the synthetic two-stroke Wacom recording (pen, then eraser) to planted
 //! values, and every kind of damaged input.
 
-use kansei::capture::evemu::{self, EvemuError};
+use kansei::capture::evdev_frames::OutOfRange;
+use kansei::capture::evemu::{self, EvemuError, EvemuProblem, EvemuWarning};
+use kansei::capture::replay::replay_text;
+use kansei::stroke::StrokeFile;
 use kansei::stroke::{StrokeError, Units};
 
 const RECORDING: &str = include_str!("../fixtures/evemu/pen-two-strokes.evemu");
@@ -115,9 +118,14 @@ E: 0.000000 0003 0018 9000
 E: 0.000000 0003 0030 7
 E: 0.000000 0015 0001 1
 E: 0.000000 0000 0000 0000
-E: 0.010000 0003 0000 50000
+E: 0.005000 0003 0000 200
+E: 0.005000 0003 0018 4000
+E: 0.005000 0000 0000 0000
+E: 0.010000 0003 0000 2147483647
 E: 0.010000 0003 0018 -4
 E: 0.010000 0000 0000 0000
+E: 0.015000 0003 0001 300
+E: 0.015000 0000 0000 0000
 E: 0.020000 0001 014a 0000
 E: 0.020000 0000 0000 0000
 ";
@@ -125,13 +133,48 @@ E: 0.020000 0000 0000 0000
     assert_eq!(stats.garbage_lines, 8);
     // ABS_MT_TOUCH_MAJOR (0x30) and the unknown type 0x15.
     assert_eq!(stats.ignored_events, 2);
-    // Pressure 9000 > 8191, X 50000 > 44800, pressure -4 < 0.
-    assert_eq!(stats.out_of_range, 3);
+    // Pressure 9000 > 8191, X 2147483647 > 44800, pressure -4 < 0: not used, and the two
+    // frames holding them give no sample.
+    assert_eq!((stats.out_of_range, stats.rejected_frames), (3, 2));
     let s = &file.strokes[0].samples;
     assert_eq!(s.len(), 2);
-    assert_eq!((s[0].pressure, s[1].pressure), (Some(1.0), Some(0.0)));
-    assert_eq!(s[1].x, 50000.0 / COUNTS_PER_MM);
+    // X keeps 200 (not 2147483647) and pressure 4000 through the rejected frame.
+    assert_eq!(
+        (s[0].x, s[0].y),
+        (200.0 / COUNTS_PER_MM, 100.0 / COUNTS_PER_MM)
+    );
+    assert_eq!(
+        (s[1].x, s[1].y),
+        (200.0 / COUNTS_PER_MM, 300.0 / COUNTS_PER_MM)
+    );
+    assert_eq!(s[1].t, Some(0.015));
+    let p = Some(4000.0 / PRESSURE_MAX);
+    assert_eq!((s[0].pressure, s[1].pressure), (p, p));
     assert_eq!(stats.eraser, [false]);
+    // Every skipped line and value, in order, with its line number.
+    let first = header().lines().count() + 1;
+    let lines: Vec<usize> = stats.warnings.iter().map(|w| w.line).collect();
+    let expected: Vec<usize> = [0, 1, 2, 3, 4, 5, 6, 7, 11, 18, 19]
+        .iter()
+        .map(|i| first + i)
+        .collect();
+    assert_eq!(lines, expected);
+    assert!(
+        stats.warnings[..8]
+            .iter()
+            .all(|w| w.problem == EvemuProblem::Garbage)
+    );
+    assert_eq!(
+        stats.warnings[9].problem,
+        EvemuProblem::OutOfRange(OutOfRange {
+            axis: "ABS_X",
+            value: i32::MAX,
+            min: 0,
+            max: 44800
+        })
+    );
+    let message = stats.warnings[10].problem.to_string();
+    assert!(message.contains("ABS_PRESSURE = -4"), "{message}");
 }
 
 #[test]
@@ -150,6 +193,14 @@ E: 0.020000 0000 0000 0000
 ";
     let (file, stats) = evemu::read(&format!("{}{body}", header())).expect("reads");
     assert_eq!(stats.dropped_frames, 1);
+    let dropped_line = header().lines().count() + 6;
+    assert_eq!(
+        stats.warnings,
+        [EvemuWarning {
+            line: dropped_line,
+            problem: EvemuProblem::Dropped
+        }]
+    );
     let s = &file.strokes[0].samples;
     assert_eq!(s.len(), 2);
     assert_eq!((s[1].x, s[1].y), (0.5, 1.5));
@@ -265,4 +316,26 @@ fn mutated_and_truncated_recording_never_panics_and_what_is_accepted_is_valid() 
         }
     }
     assert!(accepted > 1000, "{accepted}");
+}
+
+/// evemu replay marks eraser strokes in `device.eraser_strokes` as HID replay does, and the
+/// mark survives the kansei-stroke JSON round trip.
+#[test]
+fn eraser_strokes_are_marked_in_the_device_object_like_hid_replay() {
+    let (file, stats) = evemu::read(RECORDING).expect("reads");
+    assert_eq!(stats.eraser, [false, true]);
+    let device = file.device.as_ref().expect("present");
+    assert_eq!(device["eraser_strokes"], serde_json::json!([1]));
+    let back = StrokeFile::from_json(&file.to_json()).expect("round trip");
+    assert_eq!(
+        back.device.expect("present")["eraser_strokes"],
+        serde_json::json!([1])
+    );
+    // The same key HID replay writes (here: no eraser strokes).
+    let hid = include_str!("../fixtures/hid/pen-three-vertical-strokes.hid");
+    let (hid_file, _) = replay_text(hid).expect("replays");
+    assert_eq!(
+        hid_file.device.expect("present")["eraser_strokes"],
+        serde_json::json!([])
+    );
 }

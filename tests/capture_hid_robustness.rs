@@ -96,6 +96,87 @@ fn unknown_report_ids_are_errors_and_declared_non_pen_reports_are_none() {
     assert_eq!(layout.decode(&battery), Ok(None));
 }
 
+/// The Intuos pen fields' logical ranges (its descriptor): X 0..=44800 (24 bits at byte 2),
+/// Tip Pressure 0..=8191 (16 bits at byte 8), X Tilt -64..=63 (8 bits at byte 10).
+const X_MAX: i64 = 44800;
+const PRESSURE_MAX: i64 = 8191;
+const TILT_MAX: i64 = 63;
+
+#[test]
+fn values_outside_the_logical_range_are_refused_naming_field_and_value() {
+    let layout = wacom_layout();
+    // (bytes to overwrite at, with, field, value read, byte, min, max)
+    type Case = (usize, &'static [u8], &'static str, i64, usize, i64, i64);
+    let cases: [Case; 4] = [
+        (2, &[0xff, 0xff, 0xff], "X", 0xFF_FFFF, 2, 0, X_MAX),
+        (2, &[0x01, 0xaf, 0x00], "X", X_MAX + 1, 2, 0, X_MAX),
+        (8, &[0xff, 0xff], "Tip Pressure", 0xFFFF, 8, 0, PRESSURE_MAX),
+        (10, &[0x7f], "X Tilt", 127, 10, -64, TILT_MAX),
+    ];
+    for (at, bytes, field, value, byte, min, max) in cases {
+        let mut report = PEN_REPORT;
+        report[at..at + bytes.len()].copy_from_slice(bytes);
+        let err = layout.decode(&report).expect_err("refused");
+        assert_eq!(
+            err,
+            HidError::OutOfRange {
+                report_id: 0x10,
+                field,
+                byte,
+                value,
+                min,
+                max
+            }
+        );
+        let msg = err.to_string();
+        assert!(
+            msg.contains(field) && msg.contains(&value.to_string()),
+            "{msg}"
+        );
+    }
+    // The range's ends themselves decode.
+    let mut report = PEN_REPORT;
+    report[2..5].copy_from_slice(&[0x00, 0xaf, 0x00]);
+    let r = layout.decode(&report).expect("ok").expect("pen");
+    assert_eq!(r.raw_x, X_MAX);
+}
+
+#[test]
+fn out_of_range_reports_in_a_recording_are_skipped_and_counted_with_line_numbers() {
+    // The excerpt report with X = 0xFFFFFF, which once replayed as x = 83 886 mm.
+    let huge_x = "E: 0.0 27 10 61 ff ff ff f0 2c 00 ea 14 24 00 00 00 00 00 00 06 9c 36 80 23 02 08 11 00 02\n";
+    let text = fixture_with(huge_x);
+    let line = text
+        .lines()
+        .position(|l| l == huge_x.trim_end())
+        .expect("inserted")
+        + 1;
+    let (file, stats) = replay_text(&text).expect("replays");
+    assert_eq!(file.strokes.len(), 3);
+    assert_eq!(stats.decode_errors, 1);
+    assert_eq!(
+        stats.first_decode_errors,
+        [(
+            line,
+            HidError::OutOfRange {
+                report_id: 0x10,
+                field: "X",
+                byte: 2,
+                value: 0xFF_FFFF,
+                min: 0,
+                max: X_MAX
+            }
+        )]
+    );
+    let widest = file
+        .strokes
+        .iter()
+        .flat_map(|s| &s.samples)
+        .map(|s| s.x)
+        .fold(0.0, f64::max);
+    assert!(widest <= 224.0, "{widest}");
+}
+
 #[test]
 fn descriptor_cut_mid_item_names_the_item_offset() {
     let descriptor = fixture().descriptor;

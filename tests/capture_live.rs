@@ -389,3 +389,70 @@ fn devices_command_succeeds() {
     let stdout = String::from_utf8_lossy(&o.stdout);
     assert!(!stdout.trim().is_empty());
 }
+
+/// Pace for the SIGTERM test: half the recorded speed, so the second stroke lasts long enough
+/// for the signal to land inside it on a loaded machine.
+const SIGTERM_PACE: f64 = 0.5;
+
+/// SIGTERM (`kill`, a service stop) during `kansei capture` ends it like Ctrl-C: the handler
+/// (ctrlc's `termination` feature) stops the loop, the finished stroke and the stroke in
+/// progress are written, and the exit is normal. Without the feature SIGTERM kills the process
+/// and the stroke in progress is lost.
+#[cfg(feature = "live")]
+#[test]
+fn sigterm_mid_stroke_saves_the_stroke_in_progress() {
+    use std::io::{BufRead, BufReader};
+    use std::process::Stdio;
+    use std::time::Duration;
+
+    let reference = replayed();
+    let end_of_first = reference[0]
+        .samples
+        .last()
+        .and_then(|s| s.t)
+        .expect("timed");
+    let second = &reference[1].samples;
+    let (start, end) = (
+        second[0].t.expect("timed"),
+        second[second.len() - 1].t.expect("timed"),
+    );
+    // From the message that stroke 1 ended to the middle of stroke 2, on the wall clock.
+    let delay = ((start + end) / 2.0 - end_of_first) / SIGTERM_PACE;
+    let out = scratch("cli-sigterm.json");
+    let mut child = Command::new(env!("CARGO_BIN_EXE_kansei"))
+        .args(["capture", "--from-recording", FIXTURE, "--out"])
+        .arg(&out)
+        .args(["--pace", &SIGTERM_PACE.to_string()])
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .expect("spawn kansei");
+    let stderr = child.stderr.take().expect("piped");
+    let mut lines = BufReader::new(stderr).lines();
+    let first = lines.next().expect("a line").expect("utf-8");
+    assert!(first.starts_with("stroke 1:"), "{first}");
+    std::thread::sleep(Duration::from_secs_f64(delay));
+    let killed = Command::new("kill")
+        .args(["-TERM", &child.id().to_string()])
+        .status()
+        .expect("kill");
+    assert!(killed.success());
+    let rest: Vec<String> = lines.map_while(Result::ok).collect();
+    let o = child.wait_with_output().expect("exits");
+    assert!(o.status.success(), "{:?}: {rest:?}", o.status);
+    let stdout = String::from_utf8_lossy(&o.stdout);
+    assert!(
+        stdout.contains("2 strokes (the last one interrupted)"),
+        "{stdout}"
+    );
+    let file = read_file(&out);
+    assert_eq!(file.strokes.len(), 2);
+    assert_eq!(file.strokes[0], reference[0]);
+    let partial = &file.strokes[1].samples;
+    assert!(
+        partial.len() > 1 && partial.len() < second.len(),
+        "{}",
+        partial.len()
+    );
+    assert_eq!(partial[..], second[..partial.len()]);
+}

@@ -303,3 +303,85 @@ fn inkml_and_evemu_recordings_fit_directly() {
         assert!(doc.curves.iter().all(|c| !c.segments.is_empty()), "{name}");
     }
 }
+
+/// A damaged evemu recording replays (exit 0) and stderr names each kind of skip with its count
+/// and first line numbers; the eraser stroke is marked in the output's `device.eraser_strokes`.
+/// A hid-recorder file's garbage lines and out-of-range reports are named by line too.
+#[test]
+fn replay_warnings_name_counts_and_lines() {
+    let root = env!("CARGO_MANIFEST_DIR");
+    let dir = std::env::temp_dir().join(format!("kansei-cli-warnings-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).expect("dir");
+    let text = std::fs::read_to_string(format!("{root}/fixtures/evemu/pen-two-strokes.evemu"))
+        .expect("fixture");
+    // After the header: a garbage line, a huge ABS_X in its own frame and a SYN_DROPPED.
+    let at = text.find("\nE: ").expect("events") + 1;
+    let header_lines = text[..at].lines().count();
+    let damage = "hello\n\
+                  E: 0.000000 0003 0000 2147483647\n\
+                  E: 0.000000 0000 0000 0000\n\
+                  E: 0.000000 0000 0003 0000\n\
+                  E: 0.000000 0000 0000 0000\n";
+    let evemu = dir.join("damaged.evemu");
+    std::fs::write(&evemu, format!("{}{damage}{}", &text[..at], &text[at..])).expect("write");
+    let out_json = dir.join("damaged.json");
+    let out = kansei()
+        .args(["replay"])
+        .arg(&evemu)
+        .arg("--out")
+        .arg(&out_json)
+        .output()
+        .expect("runs");
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(out.status.success(), "{err}");
+    for expected in [
+        "1 lines that do not parse skipped".to_owned(),
+        format!("line {}: line does not parse", header_lines + 1),
+        "1 values out of their axis range skipped".to_owned(),
+        format!("line {}: ABS_X = 2147483647", header_lines + 2),
+        "1 frames dropped (SYN_DROPPED) skipped".to_owned(),
+        format!("line {}: SYN_DROPPED", header_lines + 4),
+        "1 eraser strokes".to_owned(),
+    ] {
+        assert!(err.contains(&expected), "{expected:?} not in {err}");
+    }
+    let file = kansei::stroke::StrokeFile::from_json(
+        &std::fs::read_to_string(&out_json).expect("written"),
+    )
+    .expect("valid");
+    assert_eq!(file.strokes.len(), 2);
+    assert_eq!(
+        file.device.expect("present")["eraser_strokes"],
+        serde_json::json!([1])
+    );
+
+    let hid_text = std::fs::read_to_string(format!(
+        "{root}/fixtures/hid/pen-three-vertical-strokes.hid"
+    ))
+    .expect("fixture");
+    let hid_text = hid_text.replacen(
+        "I: 3 056a 0357\n",
+        "I: 3 056a 0357\nnonsense\nE: 0.0 27 10 61 ff ff ff f0 2c 00 ea 14 24 00 00 00 00 00 00 06 9c 36 80 23 02 08 11 00 02\n",
+        1,
+    );
+    let garbage_line = hid_text.lines().position(|l| l == "nonsense").expect("in") + 1;
+    let hid = dir.join("damaged.hid");
+    std::fs::write(&hid, hid_text).expect("write");
+    let out = kansei()
+        .args(["replay"])
+        .arg(&hid)
+        .arg("--out")
+        .arg(dir.join("hid.json"))
+        .output()
+        .expect("runs");
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(out.status.success(), "{err}");
+    assert!(err.contains("2 reports or lines skipped"), "{err}");
+    assert!(err.contains(&format!("line {garbage_line}: ")), "{err}");
+    assert!(
+        err.contains(&format!("line {}: report 0x10, field X", garbage_line + 1))
+            && err.contains("16777215"),
+        "{err}"
+    );
+    let _ = std::fs::remove_dir_all(dir);
+}

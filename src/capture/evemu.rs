@@ -11,60 +11,53 @@
 //! E: 0.008000 0003 0000 10010                event: sec.usec, type and code (hex), value
 //! ```
 //!
+//! This module only parses the text ([`EvemuRecording::parse`]: the `A:` axis table and the
+//! `E:` events as (line, time, type, code, value)). [`read`] then feeds the events through
+//! [`EvdevPen`], the frame decoder the live evdev source uses, and the pen reports through the
+//! [`StrokeBuilder`] every source uses: a recording replays exactly as the tablet would have
+//! been captured live.
+//!
 //! Events are grouped into frames ended by `SYN_REPORT` (type 0, code 0). Axis values persist:
 //! an axis absent from a frame keeps its previous value (evdev only reports changes). A stroke
 //! is a `BTN_TOUCH` down…up run: every frame ending with the pen touching gives one sample
 //! (the frame that lifts the pen gives none). Strokes drawn while `BTN_TOOL_RUBBER` is the
-//! active tool are kept and marked in [`EvemuStats::eraser`].
+//! active tool are kept and marked, in [`EvemuStats::eraser`] and in the file's
+//! `device.eraser_strokes` (stroke indices), as HID replay marks them.
 //!
 //! - **Positions**: `ABS_X`/`ABS_Y` divided by their resolution (units per mm, per the kernel's
-//!   `input_absinfo`), giving [`Units::Mm`]; [`Units::Device`] counts when either resolution
-//!   is 0 or the axis is not declared.
-//! - **Time**: seconds since the recording's first event.
-//! - **Pressure**: `(v - min) / (max - min)` of the `ABS_PRESSURE` axis. A value outside the
-//!   declared range is clamped and counted in [`EvemuStats::out_of_range`].
+//!   `input_absinfo`), giving [`Units::Mm`](crate::stroke::Units::Mm);
+//!   [`Units::Device`](crate::stroke::Units::Device) counts when either resolution is 0 or the
+//!   axis is not declared.
+//! - **Time**: seconds since the recording's first event. Time going backwards within a
+//!   stroke is an error ([`EvemuError::Invalid`]): a recording's clock is the kernel's.
+//! - **Pressure**: `(v - min) / (max - min)` of the `ABS_PRESSURE` axis.
+//! - **Out of range**: a value outside its axis's declared `min..=max` is not used; the frame
+//!   holding it gives no sample ([`EvemuStats::rejected_frames`]) and the value is counted
+//!   ([`EvemuStats::out_of_range`]) with its line ([`EvemuStats::warnings`]).
 //! - **Tilt**: `ABS_TILT_X`/`ABS_TILT_Y` in degrees. The kernel documents their resolution in
 //!   units per radian, so `degrees = (v / resolution).to_degrees()`; with resolution 0 the raw
 //!   value is taken as degrees (Wacom tablets report about one unit per degree, and their
 //!   drivers declare 57 units/rad ≈ 1 unit/degree).
 //!
 //! Nothing in a recording panics the reader: lines that do not parse, values beyond 32 bits and
-//! events this reader does not use are skipped and counted in [`EvemuStats`]. A truncated
-//! recording reads up to its last complete frame; a stroke still touching at the end is kept.
+//! events this reader does not use are skipped and counted in [`EvemuStats`], the first
+//! [`MAX_KEPT_WARNINGS`] with their line numbers. A truncated recording reads up to its last
+//! complete frame; a stroke still touching at the end is kept.
 
-use std::collections::HashMap;
+use std::collections::BTreeMap;
 
 use serde_json::json;
 use thiserror::Error;
 
-use crate::stroke::{Sample, Stroke, StrokeError, StrokeFile, Units};
-
-/// `EV_SYN`: frame markers.
-pub const EV_SYN: u16 = 0x00;
-/// `EV_KEY`: buttons and tools.
-pub const EV_KEY: u16 = 0x01;
-/// `EV_ABS`: absolute axes.
-pub const EV_ABS: u16 = 0x03;
-/// `SYN_REPORT`: ends a frame.
-pub const SYN_REPORT: u16 = 0x00;
-/// `SYN_DROPPED`: the kernel's buffer overran; the current frame is incomplete.
-pub const SYN_DROPPED: u16 = 0x03;
-/// `BTN_TOOL_PEN`: the pen tip is in proximity.
-pub const BTN_TOOL_PEN: u16 = 0x140;
-/// `BTN_TOOL_RUBBER`: the eraser end is in proximity.
-pub const BTN_TOOL_RUBBER: u16 = 0x141;
-/// `BTN_TOUCH`: contact with the surface.
-pub const BTN_TOUCH: u16 = 0x14a;
-/// `ABS_X`.
-pub const ABS_X: u16 = 0x00;
-/// `ABS_Y`.
-pub const ABS_Y: u16 = 0x01;
-/// `ABS_PRESSURE`.
-pub const ABS_PRESSURE: u16 = 0x18;
-/// `ABS_TILT_X`.
-pub const ABS_TILT_X: u16 = 0x1a;
-/// `ABS_TILT_Y`.
-pub const ABS_TILT_Y: u16 = 0x1b;
+pub use crate::capture::evdev_frames::{
+    ABS_PRESSURE, ABS_TILT_X, ABS_TILT_Y, ABS_X, ABS_Y, BTN_STYLUS, BTN_STYLUS2, BTN_TOOL_PEN,
+    BTN_TOOL_RUBBER, BTN_TOUCH, EV_ABS, EV_KEY, EV_SYN, SYN_DROPPED, SYN_REPORT,
+};
+use crate::capture::evdev_frames::{
+    AbsAxis, EvdevAxes, EvdevOutcome, EvdevPen, FrameEnd, OutOfRange,
+};
+use crate::capture::stroke_builder::{BuiltStroke, StrokeBuilder, Tool};
+use crate::stroke::{Stroke, StrokeError, StrokeFile};
 
 /// The header's first line starts with this.
 const HEADER: &str = "# EVEMU ";
@@ -72,6 +65,9 @@ const HEADER: &str = "# EVEMU ";
 const SUPPORTED_MAJOR: &str = "1";
 /// Microseconds per second, for the `sec.usec` timestamps.
 const MICROS_PER_SECOND: i64 = 1_000_000;
+/// Warnings kept with their line numbers; later ones are only counted (a damaged recording
+/// can have one per line, and a user needs the first few to find the damage).
+pub const MAX_KEPT_WARNINGS: usize = 100;
 
 /// Why a recording could not be read at all.
 #[derive(Debug, Error, Clone, PartialEq)]
@@ -95,6 +91,30 @@ pub enum EvemuError {
     },
 }
 
+/// Why a line or an event was skipped.
+#[derive(Clone, Debug, Error, PartialEq)]
+pub enum EvemuProblem {
+    /// The line does not parse (unknown prefix, malformed or truncated `A:`/`E:`/`I:` line,
+    /// a value beyond 32 bits, a timestamp that is not `sec.usec`).
+    #[error("line does not parse")]
+    Garbage,
+    /// An axis value outside its declared range: its frame gives no sample.
+    #[error("{0}; the frame gives no sample")]
+    OutOfRange(OutOfRange),
+    /// `SYN_DROPPED`: the kernel's buffer overran; the frame is discarded.
+    #[error("SYN_DROPPED: the frame is discarded")]
+    Dropped,
+}
+
+/// A skipped line or event, with its 1-based line number.
+#[derive(Clone, Debug, PartialEq)]
+pub struct EvemuWarning {
+    /// 1-based line number in the recording.
+    pub line: usize,
+    /// What was wrong.
+    pub problem: EvemuProblem,
+}
+
 /// What the reader met besides the strokes, and which strokes were drawn with the eraser.
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct EvemuStats {
@@ -112,8 +132,10 @@ pub struct EvemuStats {
     pub garbage_lines: usize,
     /// Well-formed events this reader does not use (other types, codes, axes not declared).
     pub ignored_events: usize,
-    /// Axis values outside their declared min..max (pressure is clamped, others kept).
+    /// Axis values outside their declared min..max: not used.
     pub out_of_range: usize,
+    /// Frames that gave no sample because they held a value out of range.
+    pub rejected_frames: usize,
     /// `SYN_DROPPED` markers; the incomplete frame before each, and the events after it up to
     /// and including the next `SYN_REPORT`, are discarded.
     pub dropped_frames: usize,
@@ -125,37 +147,62 @@ pub struct EvemuStats {
     pub samples_without_position: usize,
     /// Strokes with fewer than two distinct positions (taps): dropped.
     pub short_strokes: usize,
+    /// The first [`MAX_KEPT_WARNINGS`] garbage lines, out-of-range values and dropped frames,
+    /// with their line numbers, in the order met.
+    pub warnings: Vec<EvemuWarning>,
 }
 
-/// An axis as the `A:` line declares it.
-#[derive(Clone, Copy, Debug, PartialEq)]
-struct Axis {
-    min: i64,
-    max: i64,
-    resolution: i64,
+impl EvemuStats {
+    /// Every skipped line, value and frame and every dropped stroke or sample.
+    pub fn skipped(&self) -> usize {
+        self.garbage_lines
+            + self.out_of_range
+            + self.dropped_frames
+            + self.trailing_events
+            + self.samples_without_position
+            + self.short_strokes
+    }
+
+    fn warn(&mut self, line: usize, problem: EvemuProblem) {
+        if self.warnings.len() < MAX_KEPT_WARNINGS {
+            self.warnings.push(EvemuWarning { line, problem });
+        }
+    }
 }
 
-/// Axis values and buttons as the device reported them so far.
-#[derive(Clone, Copy, Debug, Default)]
-struct PenState {
-    x: Option<i64>,
-    y: Option<i64>,
-    pressure: Option<i64>,
-    tilt_x: Option<i64>,
-    tilt_y: Option<i64>,
-    touch: bool,
-    rubber: bool,
+/// One `E:` line: an input event as the kernel delivered it.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct EvemuEvent {
+    /// 1-based line number in the recording.
+    pub line: usize,
+    /// The timestamp, microseconds.
+    pub micros: i64,
+    /// Event type (`EV_SYN`, `EV_KEY`, `EV_ABS`, ...).
+    pub kind: u16,
+    /// Event code.
+    pub code: u16,
+    /// Value (evdev values are 32-bit signed).
+    pub value: i32,
 }
 
-/// One parsed `E:` line.
-struct Event {
-    micros: i64,
-    kind: u16,
-    code: u16,
-    value: i64,
+/// A parsed recording: the header and the events, not yet decoded.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct EvemuRecording {
+    /// The header's format version, e.g. `1.3`.
+    pub version: String,
+    /// The device name (`N:`).
+    pub name: Option<String>,
+    /// Bus, vendor, product, version (`I:`).
+    pub ids: Option<[u32; 4]>,
+    /// Every `A:` axis by code (the last line for a code wins).
+    pub axes: BTreeMap<u16, AbsAxis>,
+    /// Every well-formed `E:` line, in order.
+    pub events: Vec<EvemuEvent>,
+    /// 1-based numbers of the lines that did not parse.
+    pub garbage_lines: Vec<usize>,
 }
 
-fn parse_event(rest: &str) -> Option<Event> {
+fn parse_event(line: usize, rest: &str) -> Option<EvemuEvent> {
     let mut fields = rest.split_whitespace();
     let (stamp, kind, code, value) = (
         fields.next()?,
@@ -171,25 +218,25 @@ fn parse_event(rest: &str) -> Option<Event> {
     let sec: i64 = sec.parse().ok()?;
     let usec: i64 = usec.parse().ok()?;
     let micros = sec.checked_mul(MICROS_PER_SECOND)?.checked_add(usec)?;
-    Some(Event {
+    Some(EvemuEvent {
+        line,
         micros,
         kind: u16::from_str_radix(kind, 16).ok()?,
         code: u16::from_str_radix(code, 16).ok()?,
-        // evdev values are 32-bit signed.
-        value: i64::from(value.parse::<i32>().ok()?),
+        value: value.parse::<i32>().ok()?,
     })
 }
 
-fn parse_axis(rest: &str) -> Option<(u16, Axis)> {
+fn parse_axis(rest: &str) -> Option<(u16, AbsAxis)> {
     let mut fields = rest.split_whitespace();
     let code = u16::from_str_radix(fields.next()?, 16).ok()?;
-    let mut next = || -> Option<i64> { fields.next()?.parse::<i32>().ok().map(i64::from) };
+    let mut next = || -> Option<i32> { fields.next()?.parse::<i32>().ok() };
     let (min, max, _fuzz, _flat) = (next()?, next()?, next()?, next()?);
     // Recordings older than evemu 1.1 have no resolution column.
     let resolution = next().unwrap_or(0);
     Some((
         code,
-        Axis {
+        AbsAxis {
             min,
             max,
             resolution,
@@ -204,210 +251,174 @@ fn parse_ids(rest: &str) -> Option<[u32; 4]> {
     Some([next()?, next()?, next()?, next()?])
 }
 
-/// A stroke being recorded.
-struct Open {
-    samples: Vec<Sample>,
-    eraser: bool,
+impl EvemuRecording {
+    /// Parses the header and the lines; errors only for a text that is not an evemu 1.x
+    /// recording. Lines that do not parse are kept in [`EvemuRecording::garbage_lines`].
+    pub fn parse(text: &str) -> Result<EvemuRecording, EvemuError> {
+        let mut lines = text.lines().enumerate();
+        let first = loop {
+            match lines.next() {
+                None => return Err(EvemuError::Empty),
+                Some((_, l)) if l.trim().is_empty() => {}
+                Some((_, l)) => break l.trim(),
+            }
+        };
+        let Some(version) = first.strip_prefix(HEADER) else {
+            return Err(EvemuError::NotEvemu(first.to_owned()));
+        };
+        let version = version.trim();
+        if version.split('.').next() != Some(SUPPORTED_MAJOR) {
+            return Err(EvemuError::UnsupportedVersion(version.to_owned()));
+        }
+        let mut rec = EvemuRecording {
+            version: version.to_owned(),
+            ..EvemuRecording::default()
+        };
+        for (i, line) in lines {
+            let line_no = i + 1;
+            // evemu-record comments every event after a '#'.
+            let line = line.split('#').next().unwrap_or("").trim();
+            if line.is_empty() {
+                continue;
+            }
+            let parsed = line
+                .split_once(':')
+                .and_then(|(prefix, rest)| match prefix {
+                    "N" => {
+                        rec.name = Some(rest.trim().to_owned());
+                        Some(())
+                    }
+                    "I" => parse_ids(rest).map(|v| rec.ids = Some(v)),
+                    "A" => parse_axis(rest).map(|(code, axis)| {
+                        rec.axes.insert(code, axis);
+                    }),
+                    "P" | "B" | "L" | "S" | "R" => Some(()),
+                    "E" => parse_event(line_no, rest).map(|e| rec.events.push(e)),
+                    _ => None,
+                });
+            if parsed.is_none() {
+                rec.garbage_lines.push(line_no);
+            }
+        }
+        Ok(rec)
+    }
+
+    /// The pen axes as the frame decoder takes them: X and Y default to an empty range with
+    /// resolution 0 (device counts, not range-checked) when the recording does not declare them.
+    pub fn pen_axes(&self) -> EvdevAxes {
+        let axis = |code: u16| self.axes.get(&code).copied();
+        EvdevAxes {
+            x: axis(ABS_X).unwrap_or_default(),
+            y: axis(ABS_Y).unwrap_or_default(),
+            pressure: axis(ABS_PRESSURE),
+            tilt_x: axis(ABS_TILT_X),
+            tilt_y: axis(ABS_TILT_Y),
+        }
+    }
 }
 
 /// Reads an `evemu-record` recording. See the [module documentation](self).
 pub fn read(text: &str) -> Result<(StrokeFile, EvemuStats), EvemuError> {
-    let mut lines = text.lines();
-    let first = loop {
-        match lines.next() {
-            None => return Err(EvemuError::Empty),
-            Some(l) if l.trim().is_empty() => {}
-            Some(l) => break l.trim(),
-        }
-    };
-    let Some(version) = first.strip_prefix(HEADER) else {
-        return Err(EvemuError::NotEvemu(first.to_owned()));
-    };
-    let version = version.trim();
-    if version.split('.').next() != Some(SUPPORTED_MAJOR) {
-        return Err(EvemuError::UnsupportedVersion(version.to_owned()));
-    }
+    replay(&EvemuRecording::parse(text)?)
+}
+
+/// A parsed recording through the live path's frame decoder ([`EvdevPen`]) and the
+/// [`StrokeBuilder`] into a `kansei-stroke` file.
+pub fn replay(rec: &EvemuRecording) -> Result<(StrokeFile, EvemuStats), EvemuError> {
     let mut stats = EvemuStats {
-        version: version.to_owned(),
+        version: rec.version.clone(),
+        events: rec.events.len(),
+        garbage_lines: rec.garbage_lines.len(),
         ..EvemuStats::default()
     };
-
-    let mut name: Option<String> = None;
-    let mut ids: Option<[u32; 4]> = None;
-    let mut axes: HashMap<u16, Axis> = HashMap::new();
-    let mut state = PenState::default();
-    let mut frame = PenState::default();
-    let mut pending = 0usize;
-    // After SYN_DROPPED, events up to and including the next SYN_REPORT are discarded
-    // (kernel Documentation/input/event-codes.rst).
-    let mut dropping = false;
-    let mut t0: Option<i64> = None;
-    let mut open: Option<Open> = None;
-    let mut finished: Vec<Open> = Vec::new();
-
-    for line in lines {
-        // evemu-record comments every event after a '#'.
-        let line = line.split('#').next().unwrap_or("").trim();
-        if line.is_empty() {
-            continue;
+    // Warnings in line order: garbage lines and event problems merged.
+    let mut garbage = rec.garbage_lines.iter().copied().peekable();
+    let mut warn_garbage_before = |stats: &mut EvemuStats, line: usize| {
+        while let Some(g) = garbage.next_if(|&g| g < line) {
+            stats.warn(g, EvemuProblem::Garbage);
         }
-        let Some((prefix, rest)) = line.split_once(':') else {
-            stats.garbage_lines += 1;
-            continue;
-        };
-        match prefix {
-            "N" => name = Some(rest.trim().to_owned()),
-            "I" => match parse_ids(rest) {
-                Some(v) => ids = Some(v),
-                None => stats.garbage_lines += 1,
-            },
-            "A" => match parse_axis(rest) {
-                Some((code, axis)) => {
-                    axes.insert(code, axis);
-                }
-                None => stats.garbage_lines += 1,
-            },
-            "P" | "B" | "L" | "S" | "R" => {}
-            "E" => {
-                let Some(event) = parse_event(rest) else {
-                    stats.garbage_lines += 1;
-                    continue;
-                };
-                stats.events += 1;
-                let start = *t0.get_or_insert(event.micros);
-                if dropping {
-                    if (event.kind, event.code) == (EV_SYN, SYN_REPORT) {
-                        dropping = false;
-                    }
-                    continue;
-                }
-                if pending == 0 {
-                    frame = state;
-                }
-                pending += 1;
-                match (event.kind, event.code) {
-                    (EV_SYN, SYN_REPORT) => {
-                        pending = 0;
-                        stats.frames += 1;
-                        let was_touching = state.touch;
-                        state = frame;
-                        if state.touch && !was_touching {
-                            if let Some(stroke) = open.take() {
-                                finished.push(stroke);
-                            }
-                            open = Some(Open {
-                                samples: Vec::new(),
-                                eraser: state.rubber,
-                            });
-                        }
-                        if !state.touch {
-                            if let Some(stroke) = open.take() {
-                                finished.push(stroke);
-                            }
-                            continue;
-                        }
-                        let t = (event.micros - start) as f64 / MICROS_PER_SECOND as f64;
-                        match sample(&state, &axes, t) {
-                            Some(s) => {
-                                if let Some(stroke) = open.as_mut() {
-                                    stroke.samples.push(s);
-                                }
-                            }
-                            None => stats.samples_without_position += 1,
-                        }
-                    }
-                    (EV_SYN, SYN_DROPPED) => {
-                        pending = 0;
-                        dropping = true;
-                        stats.dropped_frames += 1;
-                    }
-                    (EV_SYN, _) => {}
-                    (EV_KEY, BTN_TOUCH) => frame.touch = event.value != 0,
-                    (EV_KEY, BTN_TOOL_RUBBER) => frame.rubber = event.value != 0,
-                    (EV_KEY, BTN_TOOL_PEN) => {
-                        if event.value != 0 {
-                            frame.rubber = false;
-                        }
-                    }
-                    (EV_ABS, code) => {
-                        let slot = match code {
-                            ABS_X => &mut frame.x,
-                            ABS_Y => &mut frame.y,
-                            ABS_PRESSURE => &mut frame.pressure,
-                            ABS_TILT_X => &mut frame.tilt_x,
-                            ABS_TILT_Y => &mut frame.tilt_y,
-                            _ => {
-                                stats.ignored_events += 1;
-                                continue;
-                            }
-                        };
-                        match axes.get(&code) {
-                            Some(axis) => {
-                                if event.value < axis.min || event.value > axis.max {
-                                    stats.out_of_range += 1;
-                                }
-                                *slot = Some(event.value);
-                            }
-                            // Pressure and tilt cannot be normalised without their range.
-                            None if code == ABS_X || code == ABS_Y => *slot = Some(event.value),
-                            None => stats.ignored_events += 1,
-                        }
-                    }
-                    _ => stats.ignored_events += 1,
-                }
-            }
-            _ => stats.garbage_lines += 1,
-        }
-    }
-    stats.trailing_events = pending;
-    if let Some(stroke) = open.take() {
-        stats.unterminated_stroke = true;
-        finished.push(stroke);
-    }
-
-    let resolution = |code: u16| axes.get(&code).map_or(0, |a| a.resolution);
-    let units = if resolution(ABS_X) > 0 && resolution(ABS_Y) > 0 {
-        Units::Mm
-    } else {
-        Units::Device
     };
-    let mut strokes = Vec::new();
-    for stroke in finished {
-        let samples = stroke
-            .samples
-            .into_iter()
-            .map(|mut s| {
-                if units == Units::Mm {
-                    s.x /= resolution(ABS_X) as f64;
-                    s.y /= resolution(ABS_Y) as f64;
+    let axes = rec.pen_axes();
+    let mut pen = EvdevPen::new(axes);
+    let mut builder = StrokeBuilder::new();
+    let mut finished: Vec<BuiltStroke> = Vec::new();
+    let t0 = rec.events.first().map_or(0, |e| e.micros);
+    for event in &rec.events {
+        warn_garbage_before(&mut stats, event.line);
+        match pen.feed(event.kind, event.code, event.value) {
+            EvdevOutcome::OutOfRange(o) => stats.warn(event.line, EvemuProblem::OutOfRange(o)),
+            EvdevOutcome::Dropped => stats.warn(event.line, EvemuProblem::Dropped),
+            EvdevOutcome::Frame(FrameEnd::Report(report)) => {
+                let t = (event.micros - t0) as f64 / MICROS_PER_SECOND as f64;
+                let tool = if report.is_eraser() {
+                    Tool::Eraser
+                } else {
+                    Tool::Pen
+                };
+                if report.contact
+                    && let Some(run) = builder.current().filter(|run| run.tool == tool)
+                    && let Some(previous) = run.stroke.samples.last().and_then(|s| s.t)
+                    && t < previous
+                {
+                    // Finished strokes are taken after every push: this run is the next.
+                    let stroke = finished.len();
+                    return Err(EvemuError::Invalid {
+                        stroke,
+                        source: StrokeError::TimeBackwards {
+                            stroke,
+                            sample: run.stroke.samples.len(),
+                            t,
+                            previous,
+                        },
+                    });
                 }
-                s
-            })
-            .collect();
-        let candidate = Stroke::new(samples);
-        match candidate.validate(strokes.len()) {
-            Ok(()) => {
-                strokes.push(candidate);
-                stats.eraser.push(stroke.eraser);
+                builder.push(t, &report);
+                finished.extend(builder.take_finished());
             }
-            Err(StrokeError::TooFewSamples { .. }) => stats.short_strokes += 1,
-            Err(source) => {
-                return Err(EvemuError::Invalid {
-                    stroke: strokes.len(),
-                    source,
-                });
-            }
+            _ => {}
         }
     }
+    warn_garbage_before(&mut stats, usize::MAX);
+    let pen_stats = pen.stats();
+    stats.frames = pen_stats.frames;
+    stats.ignored_events = pen_stats.ignored_events;
+    stats.out_of_range = pen_stats.out_of_range;
+    stats.rejected_frames = pen_stats.rejected_frames;
+    stats.dropped_frames = pen_stats.dropped_frames;
+    stats.samples_without_position = pen_stats.touching_without_position;
+    stats.trailing_events = pen.pending_events();
+    stats.unterminated_stroke = pen.touching();
+    let (rest, builder_stats) = builder.finish();
+    finished.extend(rest);
+    stats.short_strokes = builder_stats.short_runs_dropped;
 
-    let mut file = StrokeFile::new(units, strokes);
-    file.source = Some(format!("evemu recording (EVEMU {version})"));
+    let mut strokes: Vec<Stroke> = Vec::with_capacity(finished.len());
+    for built in finished {
+        built
+            .stroke
+            .validate(strokes.len())
+            .map_err(|source| EvemuError::Invalid {
+                stroke: strokes.len(),
+                source,
+            })?;
+        stats.eraser.push(built.tool == Tool::Eraser);
+        strokes.push(built.stroke);
+    }
+    let eraser_strokes: Vec<usize> = (stats.eraser.iter().enumerate())
+        .filter(|(_, eraser)| **eraser)
+        .map(|(i, _)| i)
+        .collect();
+
+    let mut file = StrokeFile::new(axes.units(), strokes);
+    file.source = Some(format!("evemu recording (EVEMU {})", rec.version));
     let axis_json = |code: u16| {
-        axes.get(&code)
+        rec.axes
+            .get(&code)
             .map(|a| json!({"min": a.min, "max": a.max, "resolution": a.resolution}))
     };
+    let ids = rec.ids;
     file.device = Some(json!({
-        "name": name,
+        "name": rec.name,
         "bus": ids.map(|i| i[0]),
         "vendor": ids.map(|i| i[1]),
         "product": ids.map(|i| i[2]),
@@ -415,30 +426,7 @@ pub fn read(text: &str) -> Result<(StrokeFile, EvemuStats), EvemuError> {
         "abs_x": axis_json(ABS_X),
         "abs_y": axis_json(ABS_Y),
         "abs_pressure": axis_json(ABS_PRESSURE),
+        "eraser_strokes": eraser_strokes,
     }));
     Ok((file, stats))
-}
-
-/// The sample of a touching frame, in raw position counts (scaled to mm later), or `None`
-/// when no position is known yet.
-fn sample(state: &PenState, axes: &HashMap<u16, Axis>, t: f64) -> Option<Sample> {
-    let (x, y) = (state.x?, state.y?);
-    let mut s = Sample::new(x as f64, y as f64).with_t(t);
-    if let (Some(p), Some(axis)) = (state.pressure, axes.get(&ABS_PRESSURE))
-        && axis.max > axis.min
-    {
-        let clamped = p.clamp(axis.min, axis.max);
-        s.pressure = Some((clamped - axis.min) as f64 / (axis.max - axis.min) as f64);
-    }
-    let tilt = |v: Option<i64>, code: u16| {
-        let (v, axis) = (v?, axes.get(&code)?);
-        Some(if axis.resolution > 0 {
-            (v as f64 / axis.resolution as f64).to_degrees()
-        } else {
-            v as f64
-        })
-    };
-    s.tilt_x = tilt(state.tilt_x, ABS_TILT_X);
-    s.tilt_y = tilt(state.tilt_y, ABS_TILT_Y);
-    Some(s)
 }

@@ -12,8 +12,10 @@ use std::time::{Duration, SystemTime};
 
 use evdev::{AbsoluteAxisCode, KeyCode};
 
-use crate::capture::evdev_frames::{AbsAxis, EvdevAxes, EvdevPen};
-use crate::capture::evemu::BTN_TOOL_PEN;
+use crate::capture::evdev_frames::{
+    AbsAxis, BTN_TOOL_PEN, EvdevAxes, EvdevOutcome, EvdevPen, FrameEnd,
+};
+use crate::capture::hid::HidError;
 use crate::capture::source::{
     Decoded, DeviceInfo, Interface, Next, PenSource, SourceError, SourceEvent,
 };
@@ -235,16 +237,28 @@ impl PenSource for LiveEvdev {
                 let stamp = event.timestamp();
                 let first = *self.first.get_or_insert(stamp);
                 let t = stamp.duration_since(first).map_or(0.0, |d| d.as_secs_f64());
-                if let Some(report) =
-                    self.pen
-                        .event(event.event_type().0, event.code(), event.value())
+                let decoded = match self
+                    .pen
+                    .feed(event.event_type().0, event.code(), event.value())
                 {
-                    self.pending.push_back(SourceEvent {
-                        t,
-                        raw: None,
-                        decoded: Decoded::Pen(report),
-                    });
-                }
+                    EvdevOutcome::Frame(FrameEnd::Report(report)) => Decoded::Pen(report),
+                    // Counted by the capture loop as a report that did not decode; its frame
+                    // gives no sample.
+                    EvdevOutcome::OutOfRange(o) => Decoded::Error(HidError::OutOfRange {
+                        report_id: 0,
+                        field: o.axis,
+                        byte: 0,
+                        value: i64::from(o.value),
+                        min: i64::from(o.min),
+                        max: i64::from(o.max),
+                    }),
+                    _ => continue,
+                };
+                self.pending.push_back(SourceEvent {
+                    t,
+                    raw: None,
+                    decoded,
+                });
             }
         }
         Ok(self.pending.pop_front().map_or(Next::Idle, Next::Event))

@@ -1,6 +1,6 @@
 //! Capture: pen input from recordings of real devices and from other ink formats, turned into
 //! [`crate::stroke`] files. Everything here is a pure function of the bytes it reads: live input
-//! (hidapi, evdev) will feed the same decoders, so every recording is a test of the live path.
+//! (hidapi, evdev) feeds the same decoders, so every recording is a test of the live path.
 //!
 //! - [`hid`]: a pen's HID report descriptor located into a [`hid::PenLayout`], and input reports
 //!   decoded into [`hid::PenReport`]s (millimetres, pressure 0..1, tilt in degrees).
@@ -14,7 +14,8 @@
 //!   descriptions, permission errors with the udev rules.
 //! - [`session`]: the capture loop, each stroke written as it ends.
 //! - [`writer`]: the crash-safe `kansei-stroke` writer and the hid-recorder raw writer.
-//! - [`evdev_frames`]: evdev events framed into pen reports.
+//! - [`evdev_frames`]: evdev events framed into pen reports: the one evdev decoder, fed by the
+//!   live evdev source and by evemu replay alike.
 //! - [`paced`]: a source replayed in real time (a recording standing in for a live tablet).
 //! - `live_hid`, `live_evdev` (feature `live`): tablets through `/dev/hidraw*` (hidapi) and
 //!   `/dev/input/event*` (evdev); `open` (feature `live`): a tablet opened by its node name.

@@ -5,7 +5,7 @@ use serde_json::json;
 use thiserror::Error;
 
 use crate::capture::hid::{HidError, PenFields, PenLayout};
-use crate::capture::recorder::{RecorderError, Recording};
+use crate::capture::recorder::{LineWarning, RecorderError, Recording};
 use crate::capture::stroke_builder::{StrokeBuilder, Tool};
 use crate::stroke::{StrokeError, StrokeFile, Units};
 
@@ -41,6 +41,8 @@ pub struct ReplayStats {
     pub first_decode_errors: Vec<(usize, HidError)>,
     /// Lines the recorder parser skipped.
     pub recorder_warnings: usize,
+    /// The first of them ([`crate::capture::recorder::MAX_KEPT_WARNINGS`]), with line numbers.
+    pub first_recorder_warnings: Vec<LineWarning>,
     /// The tool of each stroke, parallel to the file's strokes.
     pub tools: Vec<Tool>,
     /// Contact runs dropped for having fewer than two distinct positions.
@@ -74,6 +76,7 @@ pub fn recording_to_strokes(
     let mut stats = ReplayStats {
         reports: recording.reports.len(),
         recorder_warnings: recording.warning_count,
+        first_recorder_warnings: recording.warnings.clone(),
         ..ReplayStats::default()
     };
     let mut builder = StrokeBuilder::new();

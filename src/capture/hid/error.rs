@@ -75,7 +75,7 @@ pub enum HidError {
         /// Bytes in the report.
         len: usize,
     },
-    /// A decoded value is not a finite number or lies outside the field's logical range.
+    /// A decoded value converts to a number that is not finite.
     #[error("report {report_id:#04x}, field {field} at byte {byte}: {message}")]
     BadValue {
         /// Report ID (0 when the device uses no report IDs).
@@ -86,5 +86,26 @@ pub enum HidError {
         byte: usize,
         /// What is wrong.
         message: String,
+    },
+    /// A field's logical value lies outside the Logical Minimum..=Maximum its descriptor
+    /// declares (a corrupted report, or a device that does not keep its word): the report is
+    /// refused rather than scaled into a position off the tablet.
+    #[error(
+        "report {report_id:#04x}, field {field} at byte {byte}: value {value} is outside \
+         the logical range {min}..={max}"
+    )]
+    OutOfRange {
+        /// Report ID (0 when the device uses no report IDs).
+        report_id: u8,
+        /// Field name.
+        field: &'static str,
+        /// Byte offset of the field's first bit.
+        byte: usize,
+        /// The logical value read.
+        value: i64,
+        /// Logical Minimum.
+        min: i64,
+        /// Logical Maximum.
+        max: i64,
     },
 }

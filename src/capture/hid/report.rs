@@ -29,7 +29,8 @@ pub struct PenReport {
     pub x_mm: f64,
     /// Y, millimetres.
     pub y_mm: f64,
-    /// Tip Pressure, 0..1 over the logical range (clamped), when the report has it.
+    /// Tip Pressure, 0..1 over the logical range (a value outside it is refused), when the
+    /// report has it.
     pub pressure: Option<f64>,
     /// X Tilt, degrees, when the report has it.
     pub tilt_x_deg: Option<f64>,
@@ -73,21 +74,37 @@ impl PenLayout {
     /// Decodes one input report (report ID byte first, when the device uses IDs).
     ///
     /// `Ok(None)` for an input report the descriptor declares but that carries no pen data;
-    /// errors for an empty report, an undeclared report ID, or a report too short for a pen
-    /// field (naming the field and the missing byte). Bytes past the last pen field are not
-    /// required. Pure: a function of the layout and the bytes.
+    /// errors for an empty report, an undeclared report ID, a report too short for a pen
+    /// field (naming the field and the missing byte), or a pen field whose logical value lies
+    /// outside its declared Logical Minimum..=Maximum ([`HidError::OutOfRange`], naming the
+    /// field and the value; a switch declaring the empty range 0..0 is not checked). Bytes past
+    /// the last pen field are not required. Pure: a function of the layout and the bytes.
     pub fn decode(&self, report: &[u8]) -> Result<Option<PenReport>, HidError> {
         let Some(pen) = self.fields_for(report)? else {
             return Ok(None);
         };
         let report_id = pen.report_id.unwrap_or(0);
         let read = |name: &'static str, f: &FieldSpec| {
-            f.extract(report).ok_or(HidError::ReportTruncated {
+            let value = f.extract(report).ok_or(HidError::ReportTruncated {
                 report_id,
                 field: name,
                 needed_byte: f.last_byte(),
                 len: report.len(),
-            })
+            })?;
+            // Switches may declare an empty range (0..0, see `PenLayout::from_descriptor`):
+            // any value is then on or off. Every other field must keep to its range.
+            let checked = f.logical_max > f.logical_min;
+            if checked && !(f.logical_min..=f.logical_max).contains(&value) {
+                return Err(HidError::OutOfRange {
+                    report_id,
+                    field: name,
+                    byte: f.bit_offset / 8,
+                    value,
+                    min: f.logical_min,
+                    max: f.logical_max,
+                });
+            }
+            Ok(value)
         };
         let opt = |name: &'static str, f: &Option<FieldSpec>| {
             f.as_ref().map(|f| read(name, f)).transpose()
