@@ -642,7 +642,8 @@ impl<'a> Fitter<'a> {
         }
         let before = state.clone();
         // `refine` measures the chain (all samples) before and after: no evaluation is repeated.
-        if let Some(r) = refine(state, options, active.as_deref())
+        let off_curve = |p: Point, u: f64| self.pieces.project_local(p, u).distance;
+        if let Some(r) = refine(state, options, active.as_deref(), &off_curve)
             && r.end_max > self.tolerance.max(r.start_max)
         {
             *state = before;
