@@ -421,27 +421,36 @@ fn spend(budget: &Cell<usize>) -> bool {
     }
 }
 
-/// A part of a segment fitted on its own: a curve whose points are those of the segment from
-/// arc length `offset` on (the part as a segment of its own, so that evaluating it costs what
-/// its own turning costs; or the segment itself, with `offset` 0).
-struct Part<'a> {
-    curve: &'a LacSegment,
+/// A part of a segment fitted on its own: the part as a segment of its own starting at arc
+/// length `offset` of the whole (so evaluating it costs what its own turning costs), or `None`
+/// for the whole segment itself (`offset` 0); and its range on that curve, arc lengths with
+/// their points.
+struct Part {
+    sub: Option<LacSegment>,
     offset: f64,
+    range: ((f64, Point), (f64, Point)),
 }
 
-/// Fits `part.curve` between its arc lengths `s0` and `s1`, from `a` to `b` (its points there),
-/// appending the cubics to `out`; returns their measured error. A part kurbo's fit misses
-/// (measured beyond `accuracy`) is halved by arc length, down to [`MAX_SPLIT_DEPTH`] levels and
-/// while `budget` lasts.
+impl Part {
+    /// The curve the part's arc lengths refer to.
+    fn curve<'a>(&'a self, segment: &'a LacSegment) -> &'a LacSegment {
+        self.sub.as_ref().unwrap_or(segment)
+    }
+}
+
+/// Fits `curve` (whose arc length 0 is `offset` on the whole segment) between its arc lengths
+/// `s0` and `s1`, from `a` to `b` (its points there), appending the cubics to `out`; returns
+/// their measured error. A part kurbo's fit misses (measured beyond `accuracy`) is halved by arc
+/// length, down to [`MAX_SPLIT_DEPTH`] levels and while `budget` lasts.
 fn fit_part(
-    part: &Part<'_>,
+    (curve, offset): (&LacSegment, f64),
     reference: &Reference,
     ((s0, a), (s1, b)): ((f64, Point), (f64, Point)),
     accuracy: f64,
     (depth, budget): (usize, &Cell<usize>),
     out: &mut Vec<CubicBez>,
 ) -> f64 {
-    let source = LacCurve::part(part.curve, s0, s1).with_budget(budget);
+    let source = LacCurve::part(curve, s0, s1).with_budget(budget);
     let mut cubics = cubics_of(&kurbo::fit_to_bezpath(&source, accuracy));
     if let Some(first) = cubics.first_mut() {
         first.p0 = a;
@@ -453,7 +462,7 @@ fn fit_part(
         cubics.push(line_cubic(a, b));
     }
     let error = measure(
-        &reference.part((part.offset + s0, a), (part.offset + s1, b)),
+        &reference.part((offset + s0, a), (offset + s1, b)),
         reference.chord,
         &cubics,
         accuracy,
@@ -463,8 +472,9 @@ fn fit_part(
         return error;
     }
     let mid = 0.5 * (s0 + s1);
-    let m = part.curve.point(mid);
+    let m = curve.point(mid);
     let next = (depth + 1, budget);
+    let part = (curve, offset);
     let left = fit_part(part, reference, ((s0, a), (mid, m)), accuracy, next, out);
     let right = fit_part(part, reference, ((mid, m), (s1, b)), accuracy, next, out);
     left.max(right)
@@ -548,11 +558,11 @@ pub fn segment_beziers(segment: &LacSegment, accuracy: f64) -> SegmentBeziers {
         let budget = Cell::new(MAX_FIT_STEPS_PER_SEGMENT);
         let mut cubics = Vec::new();
         let mut error: f64 = 0.0;
-        for (part, range) in &parts {
+        for part in &parts {
             let e = fit_part(
-                &part.as_part(segment),
+                (part.curve(segment), part.offset),
                 &reference,
-                *range,
+                part.range,
                 target,
                 (0, &budget),
                 &mut cubics,
@@ -584,29 +594,10 @@ pub const MAX_COARSENINGS: usize = 8;
 /// The factor between successive accuracies tried after a fit spent its budget.
 pub const COARSENING_FACTOR: f64 = 10.0;
 
-/// A part of a segment as [`segment_beziers`] fits it: the part as a segment of its own (or
-/// `None` for the segment itself), with its range on that curve and its end points.
-type PartRange = (OwnedPart, ((f64, Point), (f64, Point)));
-
-/// A [`Part`] that owns its sub-segment.
-struct OwnedPart {
-    sub: Option<LacSegment>,
-    offset: f64,
-}
-
-impl OwnedPart {
-    fn as_part<'a>(&'a self, segment: &'a LacSegment) -> Part<'a> {
-        Part {
-            curve: self.sub.as_ref().unwrap_or(segment),
-            offset: self.offset,
-        }
-    }
-}
-
 /// The parts of `segment` at [`part_ends`], each as a segment of its own starting where the
 /// previous one ends (so evaluating a part costs what its own turning costs), the last ending
 /// at the segment's exact end; one part is the segment itself.
-fn parts_of(segment: &LacSegment) -> Vec<PartRange> {
+fn parts_of(segment: &LacSegment) -> Vec<Part> {
     let ends = part_ends(segment);
     let last = ends.len() - 2;
     let mut start = segment.start();
@@ -615,29 +606,21 @@ fn parts_of(segment: &LacSegment) -> Vec<PartRange> {
         let sub = (last > 0)
             .then(|| sub_segment(segment, (w[0], w[1]), start))
             .flatten();
-        let (part, (s0, s1)) = match sub {
-            Some(sub) => (
-                OwnedPart {
-                    sub: Some(sub),
-                    offset: w[0],
-                },
-                (0.0, sub.length()),
-            ),
-            None => (
-                OwnedPart {
-                    sub: None,
-                    offset: 0.0,
-                },
-                (w[0], w[1]),
-            ),
+        let (offset, (s0, s1)) = match &sub {
+            Some(sub) => (w[0], (0.0, sub.length())),
+            None => (0.0, (w[0], w[1])),
         };
         // The segment's own end closes the last part, so joints between segments are exact.
         let end = if k == last {
             segment.end()
         } else {
-            part.as_part(segment).curve.point(s1)
+            sub.as_ref().unwrap_or(segment).point(s1)
         };
-        parts.push((part, ((s0, start), (s1, end))));
+        parts.push(Part {
+            sub,
+            offset,
+            range: ((s0, start), (s1, end)),
+        });
         start = end;
     }
     parts
