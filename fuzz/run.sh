@@ -12,7 +12,7 @@ SECONDS_PER_TARGET="${1:-60}"
 shift || true
 HERE="$(cd "$(dirname "$0")" && pwd)"
 ROOT="$(dirname "$HERE")"
-SHARED="${KANSEI_SHARED_HID:-/work/shared/data/wacom-intuos-pro-hid}"
+SHARED="${KANSEI_SHARED_HID:-$ROOT/fixtures/hid/oracle}"
 TARGETS=("$@")
 if [ ${#TARGETS[@]} -eq 0 ]; then
     TARGETS=(hid_descriptor hid_layout hid_report hid_recorder evemu inkml stroke_json)

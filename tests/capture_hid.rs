@@ -1,5 +1,5 @@
 //! The HID decoder against hid-tools' own decode of every report in the real Wacom Intuos Pro M
-//! recordings (`../shared/data/wacom-intuos-pro-hid/`): each `E:` line there is preceded by a
+//! recordings (`fixtures/hid/oracle/`, copied whole from whot/wacom-recordings): each `E:` line there is preceded by a
 //! `# ReportID: .. / Tip Switch: .. | X: .. | ...` line, parsed here independently of the library.
 //! Also: stroke counts and contact-run lengths per recording, unit conversions, and the curated
 //! fixture through replay into a valid `kansei-stroke` file and the fitting pipeline.
@@ -13,9 +13,9 @@ use kansei::capture::replay::replay_text;
 use kansei::capture::stroke_builder::Tool;
 use kansei::stroke::{StrokeFile, Units};
 
-const SHARED: &str = concat!(
+const ORACLE_DIR: &str = concat!(
     env!("CARGO_MANIFEST_DIR"),
-    "/../shared/data/wacom-intuos-pro-hid/"
+    "/fixtures/hid/oracle/"
 );
 const FIXTURE: &str = concat!(
     env!("CARGO_MANIFEST_DIR"),
@@ -76,20 +76,19 @@ fn parse_oracle(line: &str) -> Option<Oracle> {
     Some(Oracle { report_id, fields })
 }
 
-fn shared_recordings() -> Vec<PathBuf> {
-    let dir = Path::new(SHARED);
+fn oracle_recordings() -> Vec<PathBuf> {
+    let dir = Path::new(ORACLE_DIR);
     assert!(
         dir.is_dir(),
-        "the recorded-oracle test needs the shared Wacom recordings at {SHARED} \
-         (../shared/data/wacom-intuos-pro-hid/ next to the crate); the folder is missing"
+        "the recorded-oracle test needs the Wacom recordings at {ORACLE_DIR}; the folder is missing"
     );
     let mut files: Vec<PathBuf> = std::fs::read_dir(dir)
-        .unwrap_or_else(|e| panic!("{SHARED}: {e}"))
+        .unwrap_or_else(|e| panic!("{ORACLE_DIR}: {e}"))
         .map(|e| e.expect("directory entry").path())
         .filter(|p| p.extension().is_some_and(|x| x == "hid"))
         .collect();
     files.sort();
-    assert!(!files.is_empty(), "no .hid recordings in {SHARED}");
+    assert!(!files.is_empty(), "no .hid recordings in {ORACLE_DIR}");
     files
 }
 
@@ -100,7 +99,7 @@ fn read(path: &Path) -> String {
 /// Every report of every recording decodes to exactly hid-tools' values.
 #[test]
 fn decoder_agrees_with_hid_tools_on_every_recorded_report() {
-    for path in shared_recordings() {
+    for path in oracle_recordings() {
         let name = path
             .file_name()
             .and_then(|n| n.to_str())
@@ -227,7 +226,7 @@ fn oracle_contact_runs(text: &str) -> Vec<usize> {
 /// of the run a sample, and the file validates.
 #[test]
 fn stroke_counts_match_each_recording() {
-    for path in shared_recordings() {
+    for path in oracle_recordings() {
         let name = path
             .file_name()
             .and_then(|n| n.to_str())
@@ -262,8 +261,8 @@ fn stroke_counts_match_each_recording() {
 
 /// The published contact-run lengths (SOURCE.md) and the device block.
 #[test]
-fn three_vertical_strokes_from_the_shared_folder() {
-    let text = read(&Path::new(SHARED).join("pen.pen-three-vertical-strokes.hid"));
+fn three_vertical_strokes_from_the_oracle_recording() {
+    let text = read(&Path::new(ORACLE_DIR).join("pen.pen-three-vertical-strokes.hid"));
     let (file, stats) = replay_text(&text).expect("replays");
     let samples: Vec<usize> = file.strokes.iter().map(|s| s.samples.len()).collect();
     assert_eq!(samples, [118, 103, 94]);

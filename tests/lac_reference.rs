@@ -1,5 +1,5 @@
 //! LAC evaluation against the high-precision reference tables in
-//! `../shared/data/lac-reference/` (30-digit mpmath, see `lac_reference.md` there).
+//! `fixtures/lac-reference/` (30-digit mpmath, see `lac_reference.md` there).
 //!
 //! Every row (α, Λ, s, x, y, θ, κ) of the standard form (origin, tangent +x, ρ(0) = 1) is mapped
 //! onto a canonical record: start (0, 0), θ0 = 0, length s, κ0 = 1, κ1 = κ(s). Positions must agree
@@ -10,7 +10,7 @@ use kansei::lac::{LacSegment, StandardLac};
 use serde_json::Value;
 use std::f64::consts::PI;
 
-const DATA_DIR: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/../shared/data/lac-reference/");
+const DATA_DIR: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/fixtures/lac-reference/");
 
 /// The accuracy the evaluator promises, relative to the length (positions), in radians (θ) and
 /// relative (κ).
@@ -31,8 +31,8 @@ fn load(name: &str) -> Vec<Row> {
     let path = format!("{DATA_DIR}{name}");
     let text = std::fs::read_to_string(&path).unwrap_or_else(|e| {
         panic!(
-            "LAC reference data {path} is missing ({e}). The shared data folder must sit beside \
-             the repository (../shared/data/lac-reference/); CI always provides it."
+            "LAC reference data {path} is missing ({e}). It ships in the \
+             repository (fixtures/lac-reference/)."
         )
     });
     let v: Value = serde_json::from_str(&text).expect("reference table is valid JSON");

@@ -7,7 +7,7 @@ use kurbo::common::GAUSS_LEGENDRE_COEFFS_16;
 use serde_json::Value;
 use std::f64::consts::PI;
 
-const DATA_DIR: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/../shared/data/lac-reference/");
+const DATA_DIR: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/fixtures/lac-reference/");
 
 /// Accuracy promised by the evaluator, relative to the length.
 const TOL: f64 = 1e-12;
@@ -142,7 +142,7 @@ fn log_spiral_and_involute_textbook_forms() {
 #[test]
 fn clothoid_matches_fresnel_values() {
     let text = std::fs::read_to_string(format!("{DATA_DIR}lac_crosscheck.json"))
-        .unwrap_or_else(|e| panic!("{DATA_DIR}lac_crosscheck.json missing ({e}): the shared data folder must sit beside the repository"));
+        .unwrap_or_else(|e| panic!("{DATA_DIR}lac_crosscheck.json missing ({e}): it ships in fixtures/lac-reference/"));
     let v: Value = serde_json::from_str(&text).expect("valid JSON");
     let parse = |e: &Value, k: &str| -> f64 {
         e[k].as_str()

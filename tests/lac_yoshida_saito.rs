@@ -1,12 +1,12 @@
 //! The Yoshida–Saito G1 construction: the `hermite_round_trip` vectors of
-//! `../shared/data/lac-reference/lac_crosscheck.json`, round trips of segments in every
+//! `fixtures/lac-reference/lac_crosscheck.json`, round trips of segments in every
 //! orientation, arcs, lines and the drawable-region errors.
 
 use kansei::geom::{Point, Vec2};
 use kansei::lac::{LacError, LacSegment, fit_g1};
 use serde_json::Value;
 
-const DATA_DIR: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/../shared/data/lac-reference/");
+const DATA_DIR: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/fixtures/lac-reference/");
 
 /// Round-trip accuracy required (relative to the length; curvatures relative to κ at the
 /// high-curvature end).
@@ -46,7 +46,7 @@ fn assert_same(got: &LacSegment, want: &LacSegment, what: &str) {
 fn hermite_round_trip_vectors() {
     let path = format!("{DATA_DIR}lac_crosscheck.json");
     let text = std::fs::read_to_string(&path).unwrap_or_else(|e| {
-        panic!("{path} is missing ({e}): the shared data folder must sit beside the repository")
+        panic!("{path} is missing ({e}): it ships in fixtures/lac-reference/")
     });
     let v: Value = serde_json::from_str(&text).expect("valid JSON");
     let trips = v["hermite_round_trip"]
