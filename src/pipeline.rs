@@ -2,6 +2,10 @@
 //!
 //! stroke → [`prepare`](crate::prepare) (duplicates, corners, hooks) → per piece
 //! [`fit_bspline`] → [`split_spans`] → [`CurveFit`].
+//!
+//! Every stroke of a file is accounted for ([`fit_one`], [`fit_file`]): it becomes curves, a
+//! [`DotFit`] (a tap: every sample within the tolerance of one point), or a
+//! [`StrokeFailure`] naming the stroke and why; one stroke's failure never costs the others.
 
 use crate::bspline::{BSplineFit, FitError, FitOptions, SegmentSearch, fit_bspline};
 use crate::chain::{Chain, ChainError, ChainInput, ChainOptions, fit_chain};
@@ -108,15 +112,91 @@ pub struct CurveFit {
     pub tolerance: f64,
 }
 
-/// The pipeline's result for a file.
+/// A stroke fitted as one point: a tap, or any stroke whose samples all lie within the
+/// tolerance of the centre of their bounding box.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct DotFit {
+    /// Index of the stroke.
+    pub stroke: usize,
+    /// Inclusive range of sample indices represented: all of the stroke's.
+    pub samples: (usize, usize),
+    /// The dot: the centre of the samples' bounding box.
+    pub point: crate::geom::Point,
+    /// Largest distance from a sample to `point` (at most the tolerance).
+    pub max_deviation: f64,
+}
+
+/// What kind of problem kept a stroke from being fitted.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum FailureKind {
+    /// The stroke's data breaks a rule of the input format (a pressure outside 0..1, time
+    /// running backwards, no samples, a shape too small for its coordinates): the message
+    /// names the sample and field.
+    Input,
+    /// The fitter could not fit a valid stroke. This is a defect of kansei: please report it
+    /// with the stroke.
+    Fit,
+}
+
+/// A stroke that could not be fitted.
+#[derive(Clone, Debug, PartialEq)]
+pub struct StrokeFailure {
+    /// Index of the stroke.
+    pub stroke: usize,
+    /// Which kind of problem.
+    pub kind: FailureKind,
+    /// The message, naming the stroke (and sample, field or piece where there is one).
+    pub message: String,
+}
+
+/// What became of one stroke.
+#[derive(Clone, Debug)]
+pub enum StrokeOutcome {
+    /// Fitted pieces (one per run between corners), in stroke order.
+    Curves(Vec<CurveFit>),
+    /// A tap or a stroke smaller than the tolerance.
+    Dot(DotFit),
+    /// Not fitted, and why.
+    Failed(StrokeFailure),
+}
+
+/// The pipeline's result for a file: every stroke is in exactly one of `curves` (one entry per
+/// piece), `dots` and `failures`.
 #[derive(Clone, Debug)]
 pub struct FitOutput {
     /// Units of the input.
     pub units: Units,
     /// Tolerance used.
     pub tolerance: f64,
-    /// All pieces of all strokes, in order.
+    /// All pieces of all strokes fitted as curves, in order.
     pub curves: Vec<CurveFit>,
+    /// Strokes fitted as dots, in order.
+    pub dots: Vec<DotFit>,
+    /// Strokes that could not be fitted, in order.
+    pub failures: Vec<StrokeFailure>,
+}
+
+impl FitOutput {
+    /// An output with curves only (no dots, no failures).
+    pub fn with_curves(units: Units, tolerance: f64, curves: Vec<CurveFit>) -> Self {
+        FitOutput {
+            units,
+            tolerance,
+            curves,
+            dots: Vec::new(),
+            failures: Vec::new(),
+        }
+    }
+
+    /// Adds one stroke's outcome.
+    pub fn push(&mut self, outcome: StrokeOutcome) {
+        match outcome {
+            StrokeOutcome::Curves(curves) => self.curves.extend(curves),
+            StrokeOutcome::Dot(dot) => self.dots.push(dot),
+            StrokeOutcome::Failed(failure) => self.failures.push(failure),
+        }
+    }
 }
 
 /// Why the pipeline failed on a stroke.
@@ -163,7 +243,61 @@ pub enum PipelineError {
     },
 }
 
-/// Runs the pipeline on one (validated) stroke.
+/// Fits one stroke, whatever it holds: validated at the boundary (a failure of
+/// [`FailureKind::Input`] if it breaks a rule), a dot if every sample lies within the
+/// tolerance of one point, else curves through [`fit_stroke`] (a failure of
+/// [`FailureKind::Fit`] if that fails, or panics: a defect, contained to its stroke).
+pub fn fit_one(
+    stroke: &Stroke,
+    index: usize,
+    tolerance: f64,
+    options: &PipelineOptions,
+) -> StrokeOutcome {
+    let failed = |kind, message: String| {
+        StrokeOutcome::Failed(StrokeFailure {
+            stroke: index,
+            kind,
+            message,
+        })
+    };
+    if let Err(e) = stroke.validate(index) {
+        return failed(FailureKind::Input, e.to_string());
+    }
+    if let Some((point, max_deviation)) = stroke.as_dot(tolerance) {
+        return StrokeOutcome::Dot(DotFit {
+            stroke: index,
+            samples: (0, stroke.samples.len().saturating_sub(1)),
+            point,
+            max_deviation,
+        });
+    }
+    if let Err(e) = stroke.check_resolvable(index) {
+        return failed(FailureKind::Input, e.to_string());
+    }
+    // The stages return typed errors and do not panic by design; should one panic all the
+    // same, the defect costs this stroke only. The default hook has already printed it.
+    let fitted = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| {
+        fit_stroke(stroke, index, tolerance, options)
+    }));
+    match fitted {
+        Ok(Ok(curves)) => StrokeOutcome::Curves(curves),
+        Ok(Err(e)) => failed(FailureKind::Fit, e.to_string()),
+        Err(panic) => {
+            let what = panic
+                .downcast_ref::<&str>()
+                .map(|s| (*s).to_owned())
+                .or_else(|| panic.downcast_ref::<String>().cloned())
+                .unwrap_or_else(|| "unknown panic".to_owned());
+            failed(
+                FailureKind::Fit,
+                format!("stroke {index}: internal error: {what}"),
+            )
+        }
+    }
+}
+
+/// Runs the curve stages on one stroke that is valid ([`Stroke::validate`]) and not a dot
+/// ([`Stroke::as_dot`]); [`fit_one`] checks both first.
 pub fn fit_stroke(
     stroke: &Stroke,
     index: usize,
@@ -271,16 +405,17 @@ fn mark_corners(spans: &mut Spans, start: PieceEnd, end: PieceEnd) {
     }
 }
 
-/// Runs the pipeline on every stroke of a (validated) file.
+/// Runs the pipeline on every stroke of a file ([`fit_one`] each): every stroke is accounted
+/// for in the output. Fails only on options that no stroke could be fitted with (a tolerance
+/// that is not a positive finite number).
 pub fn fit_file(file: &StrokeFile, options: &PipelineOptions) -> Result<FitOutput, PipelineError> {
     let tolerance = options.tolerance_for(file.units);
-    let mut curves = Vec::new();
-    for (i, stroke) in file.strokes.iter().enumerate() {
-        curves.extend(fit_stroke(stroke, i, tolerance, options)?);
+    if !(tolerance.is_finite() && tolerance > 0.0) {
+        return Err(PipelineError::BadTolerance(tolerance));
     }
-    Ok(FitOutput {
-        units: file.units,
-        tolerance,
-        curves,
-    })
+    let mut output = FitOutput::with_curves(file.units, tolerance, Vec::new());
+    for (i, stroke) in file.strokes.iter().enumerate() {
+        output.push(fit_one(stroke, i, tolerance, options));
+    }
+    Ok(output)
 }

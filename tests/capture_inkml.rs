@@ -287,11 +287,13 @@ fn channel_and_resolution_units_convert_to_mm() {
 }
 
 #[test]
-fn taps_are_skipped() {
+fn taps_are_kept_as_strokes_at_one_position() {
     let f =
         inkml::read("<ink><trace>1 2</trace><trace>5 5, 5 5</trace><trace>1 2, 3 4</trace></ink>")
             .expect("present");
-    assert_eq!(f.strokes.len(), 1);
+    let counts: Vec<usize> = f.strokes.iter().map(|s| s.samples.len()).collect();
+    assert_eq!(counts, [1, 2, 2]);
+    assert_eq!(f.strokes[1].samples[0], sample(5.0, 5.0));
 }
 
 fn error(text: &str) -> InkmlError {

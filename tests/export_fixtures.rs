@@ -686,11 +686,11 @@ fn a_piece_fitted_to_its_own_tolerance_says_so_and_validates() {
         fit_file(file, &PipelineOptions::default().with_tolerance(tolerance)).expect("fit")
     };
     let (a, b) = (at(fine), at(coarse));
-    let output = FitOutput {
-        units: file.units,
-        tolerance: fine,
-        curves: a.curves.iter().chain(&b.curves).cloned().collect(),
-    };
+    let output = FitOutput::with_curves(
+        file.units,
+        fine,
+        a.curves.iter().chain(&b.curves).cloned().collect(),
+    );
     let doc = CurveFile::from_output(&output);
     assert_eq!(doc.tolerance, fine);
     let (first, second) = doc.curves.split_at(a.curves.len());

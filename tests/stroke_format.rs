@@ -52,27 +52,7 @@ fn bad_inputs_give_errors_naming_the_place() {
     let cases: Vec<(String, StrokeError)> = vec![
         (String::new(), StrokeError::Empty),
         ("   \n".into(), StrokeError::Empty),
-        (
-            doc(r#"{"x": 1, "y": 2}, {"x": 1, "y": 2}"#),
-            StrokeError::TooFewSamples {
-                stroke: 0,
-                distinct: 1,
-            },
-        ),
-        (
-            doc(r#"{"x": 1, "y": 2}"#),
-            StrokeError::TooFewSamples {
-                stroke: 0,
-                distinct: 1,
-            },
-        ),
-        (
-            doc(""),
-            StrokeError::TooFewSamples {
-                stroke: 0,
-                distinct: 0,
-            },
-        ),
+        (doc(""), StrokeError::NoSamples { stroke: 0 }),
         (
             doc(r#"{"x": 0, "y": 0, "t": 1.0}, {"x": 1, "y": 0, "t": 0.5}"#),
             StrokeError::TimeBackwards {
@@ -193,15 +173,16 @@ fn bad_values_in_a_file_name_their_stroke_sample_and_field() {
 }
 
 #[test]
-fn a_stroke_too_small_for_its_coordinates_is_refused_with_its_size() {
+fn a_stroke_too_small_for_its_coordinates_is_a_dot_or_refused_with_its_size() {
     // 50 samples a tenth of a micrometre apart at 10⁹ mm: a few dozen rounding steps wide.
     let far = |offset: f64, spacing: f64| {
         Stroke::from_points(
             (0..50).map(|i| kansei::geom::Point::new(offset + spacing * f64::from(i), offset)),
         )
     };
-    let file = StrokeFile::new(Units::Mm, vec![far(9.99e8, 1e-7)]);
-    match file.validate() {
+    let stroke = far(9.99e8, 1e-7);
+    assert!(stroke.validate(0).is_ok(), "valid data");
+    match stroke.check_resolvable(0) {
         Err(
             e @ StrokeError::Unresolvable {
                 stroke: 0,
@@ -214,17 +195,55 @@ fn a_stroke_too_small_for_its_coordinates_is_refused_with_its_size() {
         }
         other => panic!("expected an unresolvable stroke, got {other:?}"),
     }
+    // At the default 0.1 mm its 4.9 µm are a dot, within the tolerance of one point.
+    let file = StrokeFile::new(Units::Mm, vec![stroke.clone()]);
+    let out = fit_file(&file, &PipelineOptions::default()).expect("fits");
+    assert_eq!((out.curves.len(), out.dots.len()), (0, 1));
+    assert!(out.dots[0].max_deviation < 1e-5);
+    // At a tolerance finer than its extent it would be a curve f64 cannot resolve: an input
+    // error naming its size, in the output, not a failed file.
+    let out = fit_file(&file, &PipelineOptions::default().with_tolerance(1e-7)).expect("fits");
+    assert_eq!(out.failures.len(), 1);
+    assert!(out.failures[0].message.contains("nearer the origin"));
     // The same drawing at the origin, or spanning 0.1 mm there, is fine.
-    assert!(
-        StrokeFile::new(Units::Mm, vec![far(0.0, 1e-7)])
-            .validate()
-            .is_ok()
+    assert!(far(0.0, 1e-7).check_resolvable(0).is_ok());
+    assert!(far(9.99e8, 2e-3).check_resolvable(0).is_ok());
+}
+
+#[test]
+fn a_tap_is_a_dot_and_costs_no_other_stroke() {
+    // The dot of an "i" between two letters, a tap with its tremor, and a stroke that breaks a
+    // rule: every stroke is accounted for, in order.
+    let line =
+        |y: f64| Stroke::from_points((0..20).map(|i| kansei::geom::Point::new(f64::from(i), y)));
+    let tap = Stroke::from_points([kansei::geom::Point::new(5.0, 9.0); 3]);
+    let tremor = Stroke::from_points(
+        [(5.0, 5.0), (5.02, 5.0), (5.0, 4.97), (5.01, 5.01)]
+            .map(|(x, y)| kansei::geom::Point::new(x, y)),
     );
+    let bad = Stroke::new(vec![
+        Sample::new(0.0, 0.0).with_pressure(2.0),
+        Sample::new(1.0, 0.0),
+    ]);
+    let file = StrokeFile::new(Units::Mm, vec![line(0.0), tap, bad, tremor, line(3.0)]);
+    let out = fit_file(&file, &PipelineOptions::default()).expect("fits");
+    let strokes = |v: Vec<usize>| v;
+    assert_eq!(strokes(out.dots.iter().map(|d| d.stroke).collect()), [1, 3]);
+    assert_eq!(out.dots[0].point, kansei::geom::Point::new(5.0, 9.0));
+    assert_eq!(out.dots[0].samples, (0, 2));
+    assert!((out.dots[1].point - kansei::geom::Point::new(5.01, 4.99)).hypot() < 1e-12);
+    assert!(out.dots[1].max_deviation <= 0.1);
+    assert_eq!(out.failures.len(), 1);
+    assert_eq!(out.failures[0].stroke, 2);
+    assert_eq!(out.failures[0].kind, kansei::pipeline::FailureKind::Input);
     assert!(
-        StrokeFile::new(Units::Mm, vec![far(9.99e8, 2e-3)])
-            .validate()
-            .is_ok()
+        out.failures[0].message.contains("sample 0: pressure 2"),
+        "{}",
+        out.failures[0].message
     );
+    let mut fitted: Vec<usize> = out.curves.iter().map(|c| c.stroke).collect();
+    fitted.dedup();
+    assert_eq!(fitted, [0, 4]);
 }
 
 #[test]

@@ -500,16 +500,16 @@ fn one_path_per_stroke_with_its_pieces_as_subpaths() {
             .collect();
         c
     };
-    let output = kansei::pipeline::FitOutput {
-        units: Units::Mm,
-        tolerance: base.tolerance,
-        curves: vec![
+    let output = kansei::pipeline::FitOutput::with_curves(
+        Units::Mm,
+        base.tolerance,
+        vec![
             piece(0, &all[..3]),
             piece(0, &all[3..]),
             piece(0, &[moved]),
             piece(1, &all[..1]),
         ],
-    };
+    );
     let options = SvgOptions::default().with_layers(false, false, true, false);
     let export = svg_document(&output, None, &options);
     let elements = parse_xml(&export.svg).unwrap_or_else(|e| panic!("{e}"));

@@ -476,7 +476,7 @@ mod tests {
     #[test]
     fn refused_edits_change_nothing() {
         let mut doc = Document::default();
-        let bad = Stroke::from_points([Point::new(1.0, 1.0), Point::new(1.0, 1.0)]);
+        let bad = Stroke::from_points([Point::new(1.0, 1.0), Point::new(f64::NAN, 1.0)]);
         let err = doc.apply(Edit::AddStroke {
             stroke: bad,
             settings: FitSettings::default(),

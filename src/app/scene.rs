@@ -152,10 +152,6 @@ impl SceneData {
 
     /// The fits as the pipeline's output, for export (`tolerance`: the one reported).
     pub fn output(&self, tolerance: f64) -> FitOutput {
-        FitOutput {
-            units: self.units,
-            tolerance,
-            curves: self.curves.clone(),
-        }
+        FitOutput::with_curves(self.units, tolerance, self.curves.clone())
     }
 }

@@ -12,7 +12,7 @@ use std::sync::mpsc::{Receiver, Sender, TryRecvError, channel};
 use std::thread::JoinHandle;
 
 use super::document::{DocStroke, Document, StrokeId};
-use crate::pipeline::{CurveFit, fit_stroke};
+use crate::pipeline::{CurveFit, StrokeOutcome, fit_one};
 use crate::stroke::{Stroke, Units};
 
 /// One stroke to fit.
@@ -46,7 +46,13 @@ impl FitJob {
     pub fn run(&self) -> FitResult {
         let options = &self.options;
         let tolerance = options.tolerance_for(self.units);
-        let outcome = fit_stroke(&self.stroke, 0, tolerance, options).map_err(|e| e.to_string());
+        // A tap (a stroke within the tolerance of one point) has no curve to draw: its samples
+        // show it.
+        let outcome = match fit_one(&self.stroke, 0, tolerance, options) {
+            StrokeOutcome::Curves(curves) => Ok(curves),
+            StrokeOutcome::Dot(_) => Ok(Vec::new()),
+            StrokeOutcome::Failed(failure) => Err(failure.message),
+        };
         FitResult {
             id: self.id,
             revision: self.revision,

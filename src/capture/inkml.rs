@@ -30,8 +30,9 @@
 //!   without a `max` the values must already lie in 0..1.
 //! - **Tilt.** `OTx`/`OTy` in degrees: a resolution in `1/deg` or `1/rad`, else the channel's
 //!   `units` `deg` (also the default) or `rad`.
-//! - Traces with fewer than two distinct positions (taps) are skipped; every other trace must
-//!   pass [`crate::stroke::Stroke::validate`]. Errors name the trace by its 0-based index among
+//! - Empty traces are skipped; a trace at one position (a tap, the dot of an "i") is kept (the
+//!   pipeline fits it as a dot); every trace must pass
+//!   [`crate::stroke::Stroke::validate`]. Errors name the trace by its 0-based index among
 //!   all traces of the file, and a value by its point and its position within the point.
 //!
 //! # Writing
@@ -912,7 +913,7 @@ pub fn read(text: &str) -> Result<StrokeFile, InkmlError> {
         );
         match stroke.validate(trace) {
             Ok(()) => strokes.push(stroke),
-            Err(StrokeError::TooFewSamples { .. }) => {}
+            Err(StrokeError::NoSamples { .. }) => {}
             Err(e) => return Err(InkmlError::Invalid { trace, source: e }),
         }
     }

@@ -51,8 +51,8 @@ struct Drawing {
 /// QuickDraw times are milliseconds.
 const MS_PER_S: f64 = 1000.0;
 
-/// Reads every drawing of a QuickDraw `.ndjson` file. Strokes with fewer than 2 distinct points
-/// (taps) are skipped.
+/// Reads every drawing of a QuickDraw `.ndjson` file. Empty strokes are skipped; a stroke at one
+/// position (a tap) is kept.
 pub fn read(text: &str) -> Result<StrokeFile, QuickDrawError> {
     let mut strokes = Vec::new();
     let mut per_drawing = Vec::new();
@@ -97,13 +97,10 @@ pub fn read(text: &str) -> Result<StrokeFile, QuickDrawError> {
                     }
                 })
                 .collect();
-            let stroke = Stroke::new(samples);
-            let distinct = stroke
-                .samples
-                .windows(2)
-                .any(|w| w[0].point() != w[1].point());
-            if distinct {
-                strokes.push(stroke);
+            // A stroke at one position is a tap (the pipeline fits it as a dot); only empty
+            // strokes carry nothing.
+            if !samples.is_empty() {
+                strokes.push(Stroke::new(samples));
             }
         }
         per_drawing.push(strokes.len() - before);

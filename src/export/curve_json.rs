@@ -50,6 +50,36 @@ pub struct CurveFile {
     pub tolerance: f64,
     /// One entry per fitted piece of stroke (strokes are cut at corners).
     pub curves: Vec<CurveEntry>,
+    /// Strokes fitted as one point (taps), in stroke order; absent when empty.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub dots: Vec<DotRecord>,
+    /// Strokes that could not be fitted, in stroke order; absent when empty.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub errors: Vec<ErrorRecord>,
+}
+
+/// A stroke fitted as one point ([`crate::pipeline::DotFit`]).
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct DotRecord {
+    /// Index of the stroke in the input.
+    pub stroke: usize,
+    /// Inclusive range of the stroke's sample indices: all of them.
+    pub samples: [usize; 2],
+    /// The dot `[x, y]`: the centre of the samples' bounding box.
+    pub point: [f64; 2],
+    /// Largest distance from a sample to `point` (at most the tolerance).
+    pub max_deviation: f64,
+}
+
+/// A stroke that could not be fitted ([`crate::pipeline::StrokeFailure`]).
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct ErrorRecord {
+    /// Index of the stroke in the input.
+    pub stroke: usize,
+    /// Whether the stroke's data broke a rule (`input`) or the fitter failed (`fit`).
+    pub kind: crate::pipeline::FailureKind,
+    /// What went wrong.
+    pub message: String,
 }
 
 /// One fitted piece of a stroke.
@@ -239,6 +269,25 @@ impl CurveFile {
                     let mut entry = CurveEntry::from_fit_with(c, options);
                     entry.tolerance = (c.tolerance != output.tolerance).then_some(c.tolerance);
                     entry
+                })
+                .collect(),
+            dots: output
+                .dots
+                .iter()
+                .map(|d| DotRecord {
+                    stroke: d.stroke,
+                    samples: [d.samples.0, d.samples.1],
+                    point: [d.point.x, d.point.y],
+                    max_deviation: d.max_deviation,
+                })
+                .collect(),
+            errors: output
+                .failures
+                .iter()
+                .map(|f| ErrorRecord {
+                    stroke: f.stroke,
+                    kind: f.kind,
+                    message: f.message.clone(),
                 })
                 .collect(),
         }

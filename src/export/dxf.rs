@@ -22,7 +22,7 @@
 //! The header says `$ACADVER` AC1015 (R2000: the oldest version with `$INSUNITS`; SPLINE needs
 //! R13) and `$INSUNITS` 4 (millimetres) for mm data, 0 (unitless) for px and device counts.
 
-use dxf::entities::{Entity, EntityType, Spline};
+use dxf::entities::{Entity, EntityType, ModelPoint, Spline};
 use dxf::enums::{AcadVersion, Units as DxfUnits};
 use dxf::{Drawing, Point as DxfPoint};
 use kurbo::{CubicBez, ParamCurveArclen};
@@ -169,6 +169,14 @@ pub fn dxf_drawing(output: &FitOutput, options: &DxfOptions) -> DxfExport {
             cubics: counts,
             error,
         });
+    }
+    // Dots (taps) are POINT entities: exact, as a CAD user expects of a single position.
+    for dot in &output.dots {
+        let p = dot.point;
+        if p.x.is_finite() && p.y.is_finite() {
+            let point = ModelPoint::new(DxfPoint::new(p.x, p.y, 0.0));
+            drawing.add_entity(Entity::new(EntityType::ModelPoint(point)));
+        }
     }
     DxfExport {
         drawing,

@@ -684,6 +684,26 @@ pub fn svg_document(
     }
     curves.push_str("</g>\n");
     alpha_layer.push_str("</g>\n");
+    // Dots (taps) are drawn as discs of the line's width, each its own element naming its
+    // stroke: the round end cap a pen leaves when it touches down and lifts in one place.
+    let mut dots = String::new();
+    for dot in output.dots.iter().filter(|d| finite(d.point)) {
+        bounds.add(dot.point, 0.5 * width);
+        let _ = writeln!(
+            dots,
+            "<circle id=\"dot-{}\" data-stroke=\"{}\" cx=\"{}\" cy=\"{}\" r=\"{}\"/>",
+            dot.stroke,
+            dot.stroke,
+            dot.point.x,
+            dot.point.y,
+            0.5 * width
+        );
+    }
+    if !dots.is_empty() {
+        curves.push_str("<g id=\"dots\" fill=\"#000000\" stroke=\"none\">\n");
+        curves.push_str(&dots);
+        curves.push_str("</g>\n");
+    }
 
     let mut body = String::new();
     if o.show_samples {

@@ -97,13 +97,12 @@ pub enum StrokeError {
         /// Sample index within the stroke.
         sample: usize,
     },
-    /// Fewer than two distinct positions.
-    #[error("stroke {stroke}: needs at least 2 distinct samples, has {distinct}")]
-    TooFewSamples {
+    /// The stroke has no samples at all. (A stroke whose samples all sit at one position is
+    /// valid: a tap, fitted as a dot.)
+    #[error("stroke {stroke}: has no samples")]
+    NoSamples {
         /// Stroke index.
         stroke: usize,
-        /// Number of distinct positions found.
-        distinct: usize,
     },
     /// The samples span so little beside the size of their coordinates that `f64` cannot
     /// resolve the stroke's shape there (see [`crate::geom::MIN_EXTENT_RELATIVE`]).

@@ -55,8 +55,18 @@ impl StrokeFile {
         }
     }
 
-    /// Parses and validates `kansei-stroke` JSON.
+    /// Parses and validates `kansei-stroke` JSON: the document and every stroke
+    /// ([`StrokeFile::validate`]); the first bad stroke refuses the file.
     pub fn from_json(text: &str) -> Result<Self, StrokeError> {
+        let file = Self::read_json(text)?;
+        file.validate()?;
+        Ok(file)
+    }
+
+    /// Parses `kansei-stroke` JSON, checking the document (syntax, `format`, `version`, field
+    /// types) but not the strokes' values: for a caller that validates each stroke on its own,
+    /// as [`crate::pipeline::fit_one`] does, so that one bad stroke costs only itself.
+    pub fn read_json(text: &str) -> Result<Self, StrokeError> {
         if text.trim().is_empty() {
             return Err(StrokeError::Empty);
         }
@@ -75,9 +85,7 @@ impl StrokeFile {
             Some(v) => return Err(StrokeError::WrongVersion { found: v }),
             None => return Err(StrokeError::WrongVersion { found: 0 }),
         }
-        let file: StrokeFile = serde_json::from_str(text).map_err(|e| json_error(text, e))?;
-        file.validate()?;
-        Ok(file)
+        serde_json::from_str(text).map_err(|e| json_error(text, e))
     }
 
     /// Writes the file as JSON, one sample per line. Numbers round-trip exactly.

@@ -3,8 +3,10 @@
 //! A [`Stroke`] is one pen-down run of [`Sample`]s. A [`StrokeFile`] is what `kansei-stroke` JSON
 //! holds: units, optional provenance, and the strokes. Everything entering the library passes
 //! [`StrokeFile::validate`] (or [`Stroke::validate`]): finite numbers, non-decreasing time,
-//! coordinates within [`crate::geom::MAX_COORDINATE`], at least two distinct samples. Past that
-//! boundary the stages trust their input.
+//! coordinates within [`crate::geom::MAX_COORDINATE`], pressure within 0..1, at least one sample.
+//! Past that boundary the stages trust their input. A stroke whose samples all lie within the
+//! tolerance of one point is a dot ([`Stroke::as_dot`]), not a curve; a stroke the pipeline fits as
+//! a curve must also be resolvable in `f64` where it lies ([`Stroke::check_resolvable`]).
 
 mod error;
 mod file;

@@ -82,6 +82,12 @@ impl Sample {
         self
     }
 
+    /// The same sample with a pressure (0..1 when valid).
+    pub const fn with_pressure(mut self, pressure: f64) -> Self {
+        self.pressure = Some(pressure);
+        self
+    }
+
     /// The sample's position.
     pub const fn point(&self) -> Point {
         Point::new(self.x, self.y)
@@ -181,20 +187,46 @@ impl Stroke {
                 }
             }
         }
-        let distinct = self.distinct_positions(2);
-        if distinct < 2 {
-            return Err(StrokeError::TooFewSamples {
-                stroke: index,
-                distinct,
-            });
+        if self.samples.is_empty() {
+            return Err(StrokeError::NoSamples { stroke: index });
         }
-        let (mut lo, mut hi) = (
-            Point::new(f64::INFINITY, f64::INFINITY),
-            Point::new(f64::NEG_INFINITY, f64::NEG_INFINITY),
-        );
-        for s in &self.samples {
-            (lo.x, lo.y, hi.x, hi.y) = (lo.x.min(s.x), lo.y.min(s.y), hi.x.max(s.x), hi.y.max(s.y));
-        }
+        Ok(())
+    }
+
+    /// The corners of the samples' bounding box, `None` for a stroke without samples.
+    pub fn bounds(&self) -> Option<(Point, Point)> {
+        let first = self.samples.first()?.point();
+        Some(self.samples.iter().fold((first, first), |(lo, hi), s| {
+            (
+                Point::new(lo.x.min(s.x), lo.y.min(s.y)),
+                Point::new(hi.x.max(s.x), hi.y.max(s.y)),
+            )
+        }))
+    }
+
+    /// The stroke as a dot: the centre of its samples' bounding box and the largest distance
+    /// from a sample to it, when that distance is within `tolerance` (a tap, the dot of an
+    /// "i": every sample is represented within the tolerance by one point). `None` otherwise,
+    /// and for a stroke without samples.
+    pub fn as_dot(&self, tolerance: f64) -> Option<(Point, f64)> {
+        let (lo, hi) = self.bounds()?;
+        let centre = lo.midpoint(hi);
+        let radius = self
+            .samples
+            .iter()
+            .map(|s| (s.point() - centre).hypot())
+            .fold(0.0, f64::max);
+        (radius <= tolerance).then_some((centre, radius))
+    }
+
+    /// Checks that `f64` resolves the stroke's shape where it lies: its extent (the diagonal of
+    /// its samples' box) is at least [`MIN_EXTENT_RELATIVE`] of its largest coordinate. A
+    /// stroke smaller than the fitting tolerance is a dot ([`Stroke::as_dot`]) and needs no
+    /// such check; the pipeline asks this only of strokes it is about to fit as curves.
+    pub fn check_resolvable(&self, index: usize) -> Result<(), StrokeError> {
+        let Some((lo, hi)) = self.bounds() else {
+            return Err(StrokeError::NoSamples { stroke: index });
+        };
         let extent = (hi - lo).hypot();
         let magnitude = lo.x.abs().max(lo.y.abs()).max(hi.x.abs()).max(hi.y.abs());
         if extent < MIN_EXTENT_RELATIVE * magnitude {
@@ -205,19 +237,5 @@ impl Stroke {
             });
         }
         Ok(())
-    }
-
-    /// Counts distinct positions among the samples, stopping once `enough` are found.
-    fn distinct_positions(&self, enough: usize) -> usize {
-        let mut found: Vec<Point> = Vec::with_capacity(enough);
-        for s in &self.samples {
-            if !found.contains(&s.point()) {
-                found.push(s.point());
-                if found.len() >= enough {
-                    break;
-                }
-            }
-        }
-        found.len()
     }
 }
