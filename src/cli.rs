@@ -282,10 +282,42 @@ pub enum CliError {
     /// Bad arguments.
     #[error("{0}")]
     Usage(String),
+    /// Some strokes could not be fitted; everything else was written, with an error record
+    /// for each of those strokes.
+    #[error(
+        "{failed} of {strokes} strokes could not be fitted (their error records are in the output)"
+    )]
+    StrokesFailed {
+        /// Strokes without a fit.
+        failed: usize,
+        /// Strokes read.
+        strokes: usize,
+    },
     /// The app could not run (no display, no OpenGL).
     #[cfg(feature = "app")]
     #[error("{0}")]
     App(#[from] crate::app::AppError),
+}
+
+/// Exit status of `kansei` when everything worked.
+pub const EXIT_OK: u8 = 0;
+/// Exit status when a file could not be read or written (or a device opened, the app started).
+pub const EXIT_FILE: u8 = 1;
+/// Exit status for a usage error: an option value kansei refuses, as for clap's own errors.
+pub const EXIT_USAGE: u8 = 2;
+/// Exit status when some strokes could not be fitted; everything else was written.
+pub const EXIT_STROKES_FAILED: u8 = 3;
+
+impl CliError {
+    /// The process exit status for this error ([`EXIT_FILE`], [`EXIT_USAGE`] or
+    /// [`EXIT_STROKES_FAILED`]).
+    pub fn exit_code(&self) -> u8 {
+        match self {
+            CliError::Usage(_) => EXIT_USAGE,
+            CliError::StrokesFailed { .. } => EXIT_STROKES_FAILED,
+            _ => EXIT_FILE,
+        }
+    }
 }
 
 /// Runs a parsed command line, writing results to `out`.
@@ -593,7 +625,7 @@ pub fn read_strokes(path: &Path) -> Result<StrokeFile, CliError> {
             warn_evemu(path, &stats);
             Ok(file)
         }
-        _ => StrokeFile::from_json(&text).map_err(|source| CliError::Stroke {
+        _ => StrokeFile::read_json(&text).map_err(|source| CliError::Stroke {
             path: path.to_owned(),
             source,
         }),
@@ -673,12 +705,18 @@ fn fit(args: &FitArgs, out: &mut dyn std::io::Write) -> Result<(), CliError> {
             path.clone()
         }
     };
+    let (mut failed, mut strokes) = (0, 0);
     for input in &args.inputs {
         let file = read_strokes(input)?;
         let output = fit_file(&file, &options).map_err(|source| CliError::Pipeline {
             path: input.clone(),
             source,
         })?;
+        for f in &output.failures {
+            eprintln!("error: {}: {}", input.display(), f.message);
+        }
+        failed += output.failures.len();
+        strokes += file.strokes.len();
         let doc = CurveFile::from_output_with(&output, &ExportOptions { lcg: args.lcg });
         for c in &output.curves {
             let lac = c
@@ -770,6 +808,9 @@ fn fit(args: &FitArgs, out: &mut dyn std::io::Write) -> Result<(), CliError> {
                 write_atomic(&target(input, path, "curve.json"), doc.to_json().as_bytes())?;
             }
         }
+    }
+    if failed > 0 {
+        return Err(CliError::StrokesFailed { failed, strokes });
     }
     Ok(())
 }

@@ -214,29 +214,84 @@ fn fit_writes_one_file_per_input_into_a_directory() {
 }
 
 #[test]
-fn bad_input_exits_non_zero_naming_the_file() {
+fn exit_codes_say_what_happened_and_one_bad_stroke_costs_no_other() {
+    use kansei::cli::{EXIT_FILE, EXIT_STROKES_FAILED, EXIT_USAGE};
     let dir = std::env::temp_dir().join(format!("kansei-cli-bad-{}", std::process::id()));
     std::fs::create_dir_all(&dir).expect("tmp");
-    let bad = dir.join("bad.json");
-    std::fs::write(&bad, r#"{"format": "kansei-stroke", "version": 1, "units": "mm", "strokes": [{"samples": [{"x": 0, "y": 0, "t": 2}, {"x": 1, "y": 1, "t": 1}]}]}"#).expect("write");
-    for args in [
-        vec![bad.to_string_lossy().into_owned()],
-        vec![dir.join("missing.json").to_string_lossy().into_owned()],
-    ] {
-        let out = kansei().arg("fit").args(&args).output().expect("runs");
-        assert_eq!(out.status.code(), Some(1));
-        let err = String::from_utf8_lossy(&out.stderr);
-        assert!(
-            err.contains(&args[0]),
-            "stderr does not name the file: {err}"
-        );
-        assert!(!err.contains("panicked"), "{err}");
-    }
+    // A line, a tap (the dot of an "i"), a stroke whose time runs backwards, another line.
+    let line = |y: i32| {
+        (0..12)
+            .map(|i| format!(r#"{{"x": {}, "y": {y}}}"#, 3 * i))
+            .collect::<Vec<_>>()
+            .join(", ")
+    };
+    let mixed = dir.join("mixed.json");
+    let text = format!(
+        r#"{{"format": "kansei-stroke", "version": 1, "units": "px", "strokes": [
+            {{"samples": [{}]}},
+            {{"samples": [{{"x": 5, "y": 9}}, {{"x": 5, "y": 9}}]}},
+            {{"samples": [{{"x": 0, "y": 0, "t": 2}}, {{"x": 1, "y": 1, "t": 1}}]}},
+            {{"samples": [{}]}}]}}"#,
+        line(0),
+        line(20)
+    );
+    std::fs::write(&mixed, text).expect("write");
+    let json = dir.join("mixed.curve.json");
+    let out = kansei()
+        .arg("fit")
+        .arg(&mixed)
+        .arg("--json")
+        .arg(&json)
+        .output()
+        .expect("runs");
+    assert_eq!(out.status.code(), Some(i32::from(EXIT_STROKES_FAILED)));
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        err.contains("mixed.json: stroke 2, sample 1: time goes backwards"),
+        "{err}"
+    );
+    assert!(err.contains("1 of 4 strokes could not be fitted"), "{err}");
+    assert!(!err.contains("panicked"), "{err}");
+    let doc =
+        kansei::export::CurveFile::from_json(&std::fs::read_to_string(&json).expect("written"))
+            .expect("valid");
+    let mut fitted: Vec<usize> = doc.curves.iter().map(|c| c.stroke).collect();
+    fitted.dedup();
+    assert_eq!(fitted, [0, 3]);
+    assert_eq!(doc.dots.len(), 1);
+    assert_eq!((doc.dots[0].stroke, doc.dots[0].point), (1, [5.0, 9.0]));
+    assert_eq!(doc.errors.len(), 1);
+    assert_eq!(doc.errors[0].stroke, 2);
+    assert_eq!(doc.errors[0].kind, kansei::pipeline::FailureKind::Input);
+    // The document with dots and errors is valid against the published schema.
+    let schema: serde_json::Value =
+        serde_json::from_str(kansei::export::CURVE_SCHEMA_V1).expect("schema parses");
+    let instance: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&json).expect("written")).expect("json");
+    let validator = jsonschema::validator_for(&schema).expect("schema compiles");
+    let problems: Vec<String> = validator
+        .iter_errors(&instance)
+        .map(|e| format!("{e} at {}", e.instance_path()))
+        .collect();
+    assert!(problems.is_empty(), "{problems:?}");
+
+    // A file that cannot be read at all: 1, naming it.
+    let missing = dir.join("missing.json");
+    let out = kansei().arg("fit").arg(&missing).output().expect("runs");
+    assert_eq!(out.status.code(), Some(i32::from(EXIT_FILE)));
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(err.contains("missing.json"), "{err}");
+    // An option value kansei refuses: 2, as clap's own usage errors.
     let out = kansei()
         .args(["fit", &fixture("google-ink-spring"), "--tolerance=-1"])
         .output()
         .expect("runs");
-    assert_eq!(out.status.code(), Some(1));
+    assert_eq!(out.status.code(), Some(i32::from(EXIT_USAGE)));
+    let out = kansei()
+        .args(["fit", &fixture("google-ink-spring"), "--no-such-option"])
+        .output()
+        .expect("runs");
+    assert_eq!(out.status.code(), Some(i32::from(EXIT_USAGE)));
     let _ = std::fs::remove_dir_all(dir);
 }
 
