@@ -701,3 +701,77 @@ fn a_piece_fitted_to_its_own_tolerance_says_so_and_validates() {
     assert!(problems.is_empty(), "{problems:?}");
     assert_eq!(CurveFile::from_json(&doc.to_json()).expect("reads"), doc);
 }
+
+/// The joint records measure the written segments: one more joint than segments, each smooth
+/// joint's curvatures and dκ/ds those of the segments it joins (dκ/ds checked against central
+/// differences of the record's own curvature), the jumps recomputed from them, the end kinds
+/// those of the piece's ends.
+#[test]
+fn joint_records_measure_the_continuity_of_the_written_segments() {
+    use kansei::export::{JointContinuity, relative_jump};
+    let mut jumps = Vec::new();
+    for (name, _, _, out) in fixtures() {
+        let doc = CurveFile::from_output(out);
+        for (c, fit) in doc.curves.iter().zip(&out.curves) {
+            assert_eq!(c.joints.len(), c.segments.len() + 1, "{name}");
+            let ends = [fit.spans.splits.first(), fit.spans.splits.last()]
+                .map(|s| s.is_some_and(|s| s.kind == kansei::split::SplitKind::Corner));
+            let expect = |corner: bool, other| {
+                if corner {
+                    JointContinuity::Corner
+                } else {
+                    other
+                }
+            };
+            assert_eq!(c.joints[0].kind, expect(ends[0], JointContinuity::Start));
+            assert_eq!(
+                c.joints[c.segments.len()].kind,
+                expect(ends[1], JointContinuity::End)
+            );
+            for (i, w) in c.segments.windows(2).enumerate() {
+                let j = &c.joints[i + 1];
+                assert_eq!(j.kind, JointContinuity::Smooth);
+                assert_eq!(j.point, w[1].start);
+                assert_eq!(j.kappa, [Some(w[0].kappa1), Some(w[1].kappa0)]);
+                assert_eq!(j.curvature_jump, relative_jump(w[0].kappa1, w[1].kappa0));
+                jumps.push(j.curvature_jump.unwrap_or(0.0));
+                let (a, b) = (
+                    w[0].segment().expect("valid"),
+                    w[1].segment().expect("valid"),
+                );
+                // Second-order one-sided differences over 1e-4 of the length over which the
+                // curvature changes (the segment, or |κ/κ′| where shorter): truncation
+                // ~(1e-4)² relative, rounding O(ε·κ/h), both far below the 1e-4 asked.
+                for (seg, s, sign, got) in [
+                    (&a, a.length(), -1.0, j.dkappa_ds[0]),
+                    (&b, 0.0, 1.0, j.dkappa_ds[1]),
+                ] {
+                    let Some(got) = got else { continue };
+                    let scale = seg.length().min((seg.kappa(s) / got).abs());
+                    let h = sign * 1e-4 * scale;
+                    let k = |i: f64| seg.kappa(s + i * h);
+                    let fd = (-3.0 * k(0.0) + 4.0 * k(1.0) - k(2.0)) / (2.0 * h);
+                    assert!(
+                        (fd - got).abs()
+                            <= 1e-4
+                                * got
+                                    .abs()
+                                    .max((seg.kappa1() - seg.kappa0()).abs() / seg.length())
+                                + 1e-9 / seg.length().powi(2),
+                        "{name}: dκ/ds {got} vs {fd}"
+                    );
+                }
+            }
+        }
+    }
+    jumps.sort_by(f64::total_cmp);
+    let at = |q: f64| jumps[((jumps.len() - 1) as f64 * q) as usize];
+    eprintln!(
+        "curvature jump at {} smooth joints: median {:.3}, p90 {:.3}, max {:.3}",
+        jumps.len(),
+        at(0.5),
+        at(0.9),
+        at(1.0)
+    );
+    assert!(!jumps.is_empty());
+}

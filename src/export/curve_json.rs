@@ -101,6 +101,10 @@ pub struct CurveEntry {
     /// The log-aesthetic chain's segments, in order; consecutive segments share end point and
     /// tangent (G1). Empty when the LAC stage did not run.
     pub segments: Vec<SegmentRecord>,
+    /// The chain's joints with their measured continuity, one more than `segments` (absent
+    /// when there are none).
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub joints: Vec<JointRecord>,
     /// The tolerance this piece was fitted to, when it differs from the file's `tolerance` (the
     /// app fits each stroke with its own settings); its `within_tolerance` flags refer to it.
     #[serde(default, skip_serializing_if = "Option::is_none")]
@@ -138,6 +142,100 @@ pub struct SplitRecord {
     pub t: f64,
     /// Signed curvature of the B-spline there (positive turns left in a y-up frame).
     pub curvature: f64,
+}
+
+/// What a joint of a chain is, for its continuity ([`JointRecord`]).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum JointContinuity {
+    /// Where the drawn run starts.
+    Start,
+    /// Where it ends.
+    End,
+    /// A corner: a G0 joint with the neighbouring piece of the stroke.
+    Corner,
+    /// Between two segments of the chain.
+    Smooth,
+}
+
+/// A joint of a chain and its measured continuity: the curvature and its arc-length derivative
+/// on each side, and their relative jumps at a smooth joint.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct JointRecord {
+    /// What the joint is.
+    pub kind: JointContinuity,
+    /// Where it is `[x, y]`.
+    pub point: [f64; 2],
+    /// Signed curvature of the segment before and after (none at the piece's ends).
+    pub kappa: [Option<f64>; 2],
+    /// At a smooth joint, |κ_before − κ_after| / max(|κ_before|, |κ_after|) (0 when both are 0).
+    pub curvature_jump: Option<f64>,
+    /// dκ/ds of the segment before and after (none at the ends, or where infinite).
+    pub dkappa_ds: [Option<f64>; 2],
+    /// At a smooth joint, the relative jump of dκ/ds, as for `curvature_jump`.
+    pub dkappa_ds_jump: Option<f64>,
+}
+
+/// |a − b| / max(|a|, |b|), 0 when both are 0; `None` unless both are finite.
+pub fn relative_jump(a: f64, b: f64) -> Option<f64> {
+    if !(a.is_finite() && b.is_finite()) {
+        return None;
+    }
+    let scale = a.abs().max(b.abs());
+    Some(if scale == 0.0 {
+        0.0
+    } else {
+        (a - b).abs() / scale
+    })
+}
+
+impl JointRecord {
+    /// The joints of a chain of `segments`: its start (or a corner), one smooth joint between
+    /// each two segments, its end (or a corner).
+    pub fn of_chain(segments: &[ChainSegment]) -> Vec<JointRecord> {
+        let (Some(first), Some(last)) = (segments.first(), segments.last()) else {
+            return Vec::new();
+        };
+        let finite = |v: f64| v.is_finite().then_some(v);
+        let end_kind = |k: crate::chain::JointKind, fallback| {
+            if k == crate::chain::JointKind::Corner {
+                JointContinuity::Corner
+            } else {
+                fallback
+            }
+        };
+        let p = |q: crate::geom::Point| [q.x, q.y];
+        let mut joints = vec![JointRecord {
+            kind: end_kind(first.start, JointContinuity::Start),
+            point: p(first.segment.start()),
+            kappa: [None, Some(first.segment.kappa0())],
+            curvature_jump: None,
+            dkappa_ds: [None, finite(first.segment.dkappa_ds(0.0))],
+            dkappa_ds_jump: None,
+        }];
+        for w in segments.windows(2) {
+            let (a, b) = (&w[0].segment, &w[1].segment);
+            let (da, db) = (a.dkappa_ds(a.length()), b.dkappa_ds(0.0));
+            joints.push(JointRecord {
+                kind: JointContinuity::Smooth,
+                point: p(b.start()),
+                kappa: [Some(a.kappa1()), Some(b.kappa0())],
+                curvature_jump: relative_jump(a.kappa1(), b.kappa0()),
+                dkappa_ds: [finite(da), finite(db)],
+                dkappa_ds_jump: relative_jump(da, db),
+            });
+        }
+        let l = &last.segment;
+        joints.push(JointRecord {
+            kind: end_kind(last.end, JointContinuity::End),
+            point: p(l.end()),
+            kappa: [Some(l.kappa1()), None],
+            curvature_jump: None,
+            dkappa_ds: [finite(l.dkappa_ds(l.length())), None],
+            dkappa_ds_jump: None,
+        });
+        joints
+    }
 }
 
 /// The chain's figures.
@@ -428,6 +526,9 @@ impl CurveEntry {
                         .map(|s| SegmentRecord::from_chain(s, lcg(s)))
                         .collect()
                 })
+                .unwrap_or_default(),
+            joints: chain
+                .map(|c| JointRecord::of_chain(&c.segments))
                 .unwrap_or_default(),
             // Set by the document, which knows the file's tolerance.
             tolerance: None,

@@ -16,8 +16,9 @@ pub use bezier::{
 };
 pub use curve_json::{
     BSplineRecord, CURVE_FORMAT_NAME, CURVE_FORMAT_VERSION, ChainRecord, CurveEntry, CurveFile,
-    CurveFormatError, DotRecord, ErrorRecord, ExportOptions, LCG_POINTS, LcgRecord,
-    SUPPORTED_CURVE_VERSIONS, SegmentRecord, SplitRecord, pieces_between,
+    CurveFormatError, DotRecord, ErrorRecord, ExportOptions, JointContinuity, JointRecord,
+    LCG_POINTS, LcgRecord, SUPPORTED_CURVE_VERSIONS, SegmentRecord, SplitRecord, pieces_between,
+    relative_jump,
 };
 pub use dxf::{
     DxfExport, DxfOptions, DxfSplineReport, DxfWriteError, bezier_chain_spline, dxf_drawing,

@@ -488,6 +488,48 @@ impl LacSegment {
         }
     }
 
+    /// Arc-length derivative of the signed curvature, dκ/ds, at arc length `s` (clamped to
+    /// [0, S]), in closed form. With ρ = 1/|κ| and σ the curvature's sign:
+    ///
+    /// * α ≠ 0: ρ^α = ρ0^α + c·s with c = (ρ1^α − ρ0^α)/S, so dκ/ds = −σ·(c/α)·|κ|^(1+α);
+    /// * α = 0: ρ = ρ0·e^(λs) with λ = ln(ρ1/ρ0)/S, so dκ/ds = −λ·κ;
+    /// * arcs and lines: 0.
+    ///
+    /// At a zero-curvature end (α < 0 only) |κ|^(1+α) is 0 for −1 < α < 0, 1 for the clothoid
+    /// (α = −1: dκ/ds = −σc, constant) and infinite for α < −1 (κ leaves zero vertically in s).
+    pub fn dkappa_ds(&self, s: f64) -> f64 {
+        let Some(alpha) = self.alpha else {
+            return 0.0;
+        };
+        let kappa = self.kappa(s);
+        let sigma = if self.kappa0 + self.kappa1 < 0.0 {
+            -1.0
+        } else {
+            1.0
+        };
+        let rho_pow = |k: f64| -> f64 {
+            // ρ^α of |κ|: 0 at κ = 0 for α < 0 (the only α a zero end allows).
+            if k == 0.0 { 0.0 } else { k.abs().powf(-alpha) }
+        };
+        if alpha == 0.0 {
+            let lambda = (self.kappa0.abs() / self.kappa1.abs()).ln() / self.length;
+            return -lambda * kappa;
+        }
+        let c = (rho_pow(self.kappa1) - rho_pow(self.kappa0)) / self.length;
+        let magnitude = if kappa == 0.0 {
+            if alpha > -1.0 {
+                0.0
+            } else if alpha == -1.0 {
+                1.0
+            } else {
+                f64::INFINITY
+            }
+        } else {
+            kappa.abs().powf(1.0 + alpha)
+        };
+        -sigma * (c / alpha) * magnitude
+    }
+
     /// Tangent angle and signed curvature at arc length `s` (clamped to [0, S]): what
     /// [`LacSegment::theta`] and [`LacSegment::kappa`] give, for about the cost of one of them.
     pub(crate) fn theta_kappa(&self, s: f64) -> (f64, f64) {
@@ -601,6 +643,49 @@ mod tests {
                 let (theta, kappa) = segment.theta_kappa(s);
                 assert!((theta - segment.theta(s)).abs() <= 1e-15 * (1.0 + theta.abs()));
                 assert!((kappa - segment.kappa(s)).abs() <= 1e-15 * kappa.abs().max(1e-300));
+            }
+        }
+    }
+
+    #[test]
+    fn dkappa_ds_is_the_derivative_of_kappa() {
+        for (alpha, k0, k1) in [
+            (Some(-1.0), 0.01, 0.05),
+            (Some(-2.5), 0.08, 0.01),
+            (Some(-0.5), 0.02, 0.06),
+            (Some(0.0), -0.02, -0.09),
+            (Some(1.0), 0.3, 0.01),
+            (Some(2.0), -0.01, -0.2),
+            (None, 0.05, 0.05),
+            (None, 0.0, 0.0),
+        ] {
+            let segment =
+                LacSegment::new(Point::new(1.0, -2.0), 0.3, 30.0, alpha, k0, k1).expect("segment");
+            // Central differences with h = 1e-5·S: truncation O(h²·κ‴) and rounding
+            // O(ε·κ/h), both far below 1e-6 of the derivative's scale (|κ1 − κ0|/S).
+            let h = 1e-5 * segment.length();
+            let scale = ((k1 - k0) / segment.length()).abs().max(1e-300);
+            for i in 1..20 {
+                let s = segment.length() * i as f64 / 20.0;
+                let fd = (segment.kappa(s + h) - segment.kappa(s - h)) / (2.0 * h);
+                let exact = segment.dkappa_ds(s);
+                assert!(
+                    (fd - exact).abs() <= 1e-6 * scale.max(exact.abs()),
+                    "α {alpha:?} at s {s}: {exact} vs {fd}"
+                );
+            }
+        }
+        // The clothoid's curvature is linear: dκ/ds = (κ1 − κ0)/S everywhere, ends included,
+        // also from a zero-curvature end.
+        for k0 in [0.0, 0.01] {
+            let c = LacSegment::new(Point::ORIGIN, 0.0, 20.0, Some(-1.0), k0, 0.05).expect("seg");
+            for s in [0.0, 7.0, 20.0] {
+                let expected = (0.05 - k0) / 20.0;
+                assert!(
+                    (c.dkappa_ds(s) - expected).abs() <= 1e-14,
+                    "{}",
+                    c.dkappa_ds(s)
+                );
             }
         }
     }
