@@ -13,10 +13,7 @@ use kansei::capture::replay::replay_text;
 use kansei::capture::stroke_builder::Tool;
 use kansei::stroke::{StrokeFile, Units};
 
-const ORACLE_DIR: &str = concat!(
-    env!("CARGO_MANIFEST_DIR"),
-    "/fixtures/hid/oracle/"
-);
+const ORACLE_DIR: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/fixtures/hid/oracle/");
 const FIXTURE: &str = concat!(
     env!("CARGO_MANIFEST_DIR"),
     "/fixtures/hid/pen-three-vertical-strokes.hid"

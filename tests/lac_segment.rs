@@ -141,8 +141,12 @@ fn log_spiral_and_involute_textbook_forms() {
 /// P = e^{iπx1²/2}·πx1·[(C(x1) − C(x2)) − i(S(x1) − S(x2))].
 #[test]
 fn clothoid_matches_fresnel_values() {
-    let text = std::fs::read_to_string(format!("{DATA_DIR}lac_crosscheck.json"))
-        .unwrap_or_else(|e| panic!("{DATA_DIR}lac_crosscheck.json missing ({e}): it ships in fixtures/lac-reference/"));
+    let text =
+        std::fs::read_to_string(format!("{DATA_DIR}lac_crosscheck.json")).unwrap_or_else(|e| {
+            panic!(
+                "{DATA_DIR}lac_crosscheck.json missing ({e}): it ships in fixtures/lac-reference/"
+            )
+        });
     let v: Value = serde_json::from_str(&text).expect("valid JSON");
     let parse = |e: &Value, k: &str| -> f64 {
         e[k].as_str()

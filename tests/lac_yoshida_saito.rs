@@ -45,9 +45,8 @@ fn assert_same(got: &LacSegment, want: &LacSegment, what: &str) {
 #[test]
 fn hermite_round_trip_vectors() {
     let path = format!("{DATA_DIR}lac_crosscheck.json");
-    let text = std::fs::read_to_string(&path).unwrap_or_else(|e| {
-        panic!("{path} is missing ({e}): it ships in fixtures/lac-reference/")
-    });
+    let text = std::fs::read_to_string(&path)
+        .unwrap_or_else(|e| panic!("{path} is missing ({e}): it ships in fixtures/lac-reference/"));
     let v: Value = serde_json::from_str(&text).expect("valid JSON");
     let trips = v["hermite_round_trip"]
         .as_array()
