@@ -729,9 +729,11 @@ impl<'a> Fitter<'a> {
                 continue;
             }
             let [s0, s1] = match arcs {
-                Ok(arcs) if !coincident => arcs,
-                // No biarc joins the data (tangents reversed along the chord, or a piece that
-                // ends where it starts, which no single segment can join): cut at the
+                Ok(arcs) if !(coincident || unresolved) => arcs,
+                // No biarc joins the data (tangents reversed along the chord, a piece that ends
+                // where it starts, which no single segment can join, or arcs tighter than the
+                // smallest radius in a piece of one segment, which nothing can be dropped
+                // into; the arcs would be built and fail later): cut at the
                 // B-spline's point halfway between the joints, as a subdivision does. The data
                 // are a loop or a fold there, and the halves are each joinable.
                 arcs => {
@@ -975,8 +977,33 @@ impl<'a> Fitter<'a> {
     /// A segment's `max_deviation` is over the samples it holds; the chain's is each sample's
     /// distance to the whole chain (the nearest segment, not only its own), so that
     /// `within_tolerance` and `max_deviation` state the guarantee itself.
-    fn finish(&self, state: &State, searches: Vec<AlphaSearch>) -> Result<Chain, ChainError> {
+    fn finish(&self, state: &State, mut searches: Vec<AlphaSearch>) -> Result<Chain, ChainError> {
         let n = state.len();
+        // A spiral whose α no search chose (a placeholder where a search found nothing, or a
+        // line or arc the refinement bent since) is searched now between its final joints; the
+        // searched α is kept where it fits the samples no worse than the one it replaces, or
+        // within the tolerance.
+        let mut state = state.clone();
+        for k in 0..n {
+            let placeholder = searches[k].evaluations == 0
+                && state.segment(k).is_ok_and(|seg| seg.alpha().is_some());
+            if !placeholder {
+                continue;
+            }
+            let before = state.evaluate(k, self.chord_error).map(|e| e.max);
+            let mut trial = state.clone();
+            let mut trial_searches = searches.clone();
+            self.research(&mut trial, &mut trial_searches, k);
+            let after = trial.evaluate(k, self.chord_error).map(|e| e.max);
+            if let (Ok(after), before) = (after, before)
+                && trial_searches[k].evaluations > 0
+                && before.map_or(true, |b| after <= b.max(self.tolerance))
+            {
+                state = trial;
+                searches = trial_searches;
+            }
+        }
+        let state = &state;
         let mut segments = Vec::with_capacity(n);
         let evaluated = (0..n)
             .map(|k| state.evaluate(k, self.chord_error))
@@ -1043,6 +1070,35 @@ impl<'a> Fitter<'a> {
         })
     }
 
+    /// The distance from `q` to a polyline through points of `segment` spaced so that the
+    /// segment stays within the chord error of it (a curve of curvature at most κ stays within
+    /// κh²/8 of the chord of an arc of length h; a log-aesthetic segment's largest |κ| is at an
+    /// end): the global distance to the segment, to the chord error, where a foot-point search
+    /// may settle on a local minimum.
+    fn traced_distance(&self, segment: &LacSegment, q: Point) -> f64 {
+        let kappa = segment.kappa0().abs().max(segment.kappa1().abs());
+        let spacing = if kappa > 0.0 {
+            (8.0 * self.chord_error / kappa).sqrt()
+        } else {
+            segment.length()
+        };
+        let mut best = f64::INFINITY;
+        let mut previous: Option<Point> = None;
+        for sample in segment.samples(spacing) {
+            let b = sample.point;
+            let a = previous.unwrap_or(b);
+            let ab = b - a;
+            let f = if ab.hypot2() > 0.0 {
+                ((q - a).dot(ab) / ab.hypot2()).clamp(0.0, 1.0)
+            } else {
+                0.0
+            };
+            best = best.min(q.distance(a + ab * f));
+            previous = Some(b);
+        }
+        best
+    }
+
     /// The largest distance from a sample to the chain (its nearest segment). A sample's distance
     /// to its own segment bounds its distance to the chain from above, so the samples are taken
     /// farthest from their own segment first, each measured against the others too, until the
@@ -1056,17 +1112,24 @@ impl<'a> Fitter<'a> {
         }
         own.sort_by(|x, y| y.0.total_cmp(&x.0));
         let mut worst: f64 = 0.0;
-        for &(d, k, i) in &own {
+        for &(d, _, i) in &own {
             if d <= worst {
                 break;
             }
-            let q = [self.input.points[i]];
-            let nearest = evaluated
-                .iter()
-                .enumerate()
-                .filter(|&(m, _)| m != k)
-                .map(|(_, e)| deviation(&e.segment, &q, self.chord_error).max)
-                .fold(d, f64::min);
+            // Its own segment too: a residual is the distance to a local foot point (Newton
+            // from a seed along the segment), which on a tightly curling segment need not be the
+            // nearest one (seen: 2.16 px from a sample lying on the segment's end).
+            let q = self.input.points[i];
+            let mut nearest = d;
+            for e in evaluated {
+                // Every point of a segment lies within half its length of its middle.
+                let length = e.segment.length();
+                if q.distance(e.segment.point(0.5 * length)) - 0.5 * length >= nearest {
+                    continue;
+                }
+                let local = deviation(&e.segment, &[q], self.chord_error).max;
+                nearest = nearest.min(local).min(self.traced_distance(&e.segment, q));
+            }
             worst = worst.max(nearest);
         }
         worst
