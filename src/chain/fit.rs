@@ -306,6 +306,8 @@ struct Searched {
 struct Fitter<'a> {
     input: &'a ChainInput<'a>,
     pieces: Pieces,
+    /// The samples' B-spline parameters, non-decreasing along the stroke (see [`Fitter::new`]).
+    params: Vec<f64>,
     /// Point indices sorted by parameter.
     order: Vec<usize>,
     tolerance: f64,
@@ -317,11 +319,29 @@ struct Fitter<'a> {
 
 impl<'a> Fitter<'a> {
     fn new(input: &'a ChainInput<'a>, tolerance: f64, options: &'a ChainOptions) -> Self {
+        let pieces = Pieces::new(input.curve.to_beziers());
+        // The samples' parameters, made non-decreasing along the stroke: a sample's foot point on
+        // the whole curve can lie on another pass where the stroke comes near itself (the
+        // B-spline fit reports the nearest point), and a segment would then hold samples from
+        // both passes, its sample range overlapping its neighbours'. Such a sample is projected
+        // again from the parameter of the sample before it, along its own pass.
+        let mut params = Vec::with_capacity(input.params.len());
+        let mut floor = f64::NEG_INFINITY;
+        for (p, &u) in input.points.iter().zip(input.params) {
+            let u = if u < floor {
+                pieces.project_local(*p, floor).u.max(floor)
+            } else {
+                u
+            };
+            floor = u;
+            params.push(u);
+        }
         let mut order: Vec<usize> = (0..input.points.len()).collect();
-        order.sort_by(|&i, &j| input.params[i].total_cmp(&input.params[j]).then(i.cmp(&j)));
+        order.sort_by(|&i, &j| params[i].total_cmp(&params[j]).then(i.cmp(&j)));
         Fitter {
             input,
-            pieces: Pieces::new(input.curve.to_beziers()),
+            pieces,
+            params,
             order,
             tolerance,
             chord_error: CHORD_ERROR_FRACTION * tolerance,
@@ -380,7 +400,7 @@ impl<'a> Fitter<'a> {
             .iter()
             .copied()
             .filter(|&i| {
-                let u = self.input.params[i];
+                let u = self.params[i];
                 u >= u0 && (u < u1 || (u1 >= end && u <= u1))
             })
             .collect()
@@ -548,13 +568,10 @@ impl<'a> Fitter<'a> {
             // Between the two middle samples; a lone sample gets the joint at its own B-spline
             // point, which lies within the B-spline's deviation (≤ tolerance) of it.
             let (median, um) = if held.len() == 1 {
-                (1, self.input.params[held[0]])
+                (1, self.params[held[0]])
             } else {
                 let m = held.len() / 2;
-                (
-                    m,
-                    0.5 * (self.input.params[held[m - 1]] + self.input.params[held[m]]),
-                )
+                (m, 0.5 * (self.params[held[m - 1]] + self.params[held[m]]))
             };
             let mid = self.joint_at(um, JointKind::Subdivision);
             let (a, b) = (state.joints[k], state.joints[k + 1]);
@@ -593,14 +610,13 @@ impl<'a> Fitter<'a> {
             }
             let (first, second) = (held[..median].to_vec(), held[median..].to_vec());
             let parent = state.alphas[k];
+            // Both halves get their own α search (on B-spline points where a half holds fewer
+            // than MIN_SPAN_SAMPLES samples, as for a short span): an α inherited from the parent
+            // would be a default no search chose.
             let searched = |x: &Joint, y: &Joint, s: &[usize]| {
-                if s.len() >= MIN_SPAN_SAMPLES {
-                    self.search(x, y, s, (0.0, 0.0), Some(parent), NEVER_ABANDON)
-                        .ok()
-                        .map(|found| (found.alpha, found.search, found.fit))
-                } else {
-                    None
-                }
+                self.search(x, y, s, (x.u, y.u), Some(parent), NEVER_ABANDON)
+                    .ok()
+                    .map(|found| (found.alpha, found.search, found.fit))
             };
             let (alpha0, search0, fit0) =
                 searched(&a, &mid, &first).unwrap_or((parent, AlphaSearch::default(), None));
@@ -706,17 +722,32 @@ impl<'a> Fitter<'a> {
                 searches.remove(k);
                 let into = k.min(state.len() - 1);
                 state.samples[into].extend(samples);
-                let params = self.input.params;
+                let params = self.params.as_slice();
                 state.samples[into].sort_by(|&x, &y| params[x].total_cmp(&params[y]));
                 // The joint before may now be the one no segment joins.
                 k = k.saturating_sub(1);
                 continue;
             }
-            let [s0, s1] = arcs.map_err(|source| ChainError::Span {
-                u0: 0.0,
-                u1: 0.0,
-                source,
-            })?;
+            let [s0, s1] = match arcs {
+                Ok(arcs) if !(coincident || unresolved) => arcs,
+                // No biarc joins the data (tangents reversed along the chord, a piece that ends
+                // where it starts, which no single segment can join, or arcs tighter than the
+                // smallest radius in a piece of one segment, which nothing can be dropped
+                // into; the arcs would be built and fail later): cut at the
+                // B-spline's point halfway between the joints, as a subdivision does. The data
+                // are a loop or a fold there, and the halves are each joinable.
+                arcs => {
+                    if self.split_on_curve(state, searches, k) {
+                        continue;
+                    }
+                    let source = arcs.err().unwrap_or(LacError::CoincidentEndPoints);
+                    return Err(ChainError::Span {
+                        u0: a.u,
+                        u1: b.u,
+                        source,
+                    });
+                }
+            };
             let mid = Joint {
                 p: s0.end(),
                 angle: s0.theta1(),
@@ -724,25 +755,80 @@ impl<'a> Fitter<'a> {
                 fixed: false,
                 u: 0.5 * (a.u + b.u),
             };
-            // Each sample goes to the arc it is nearer to.
-            let d0 = deviation(&s0, &reference, self.chord_error);
-            let d1 = deviation(&s1, &reference, self.chord_error);
-            let (mut first, mut second) = (Vec::new(), Vec::new());
-            for (n, &i) in state.samples[k].iter().enumerate() {
-                let near_first = d0.distances.get(n) <= d1.distances.get(n);
-                if near_first {
-                    first.push(i)
-                } else {
-                    second.push(i)
+            // The samples (in stroke order) are cut in two where the larger distance of a
+            // first part to the first arc and of the rest to the second is least: each arc holds
+            // a run of consecutive samples, so the segments' sample ranges tile the piece.
+            let d0 = deviation(&s0, &reference, self.chord_error).distances;
+            let d1 = deviation(&s1, &reference, self.chord_error).distances;
+            let held = &state.samples[k];
+            let n = held.len().min(d0.len()).min(d1.len());
+            let mut suffix = vec![0.0f64; n + 1];
+            for m in (0..n).rev() {
+                suffix[m] = suffix[m + 1].max(d1[m]);
+            }
+            let (mut best, mut prefix, mut cut) = (suffix[0], 0.0f64, 0);
+            for m in 1..=n {
+                prefix = prefix.max(d0[m - 1]);
+                if prefix.max(suffix[m]) < best {
+                    (best, cut) = (prefix.max(suffix[m]), m);
                 }
             }
+            let (first, second) = (held[..cut].to_vec(), held[cut..].to_vec());
             state.joints.insert(k + 1, mid);
             state.alphas.splice(k..=k, [middle, middle]);
             state.samples.splice(k..=k, [first, second]);
             searches.splice(k..=k, [AlphaSearch::default(), AlphaSearch::default()]);
+            // Each arc's G1 data is an arc's, which every α reproduces; search anyway, so that
+            // the α refinement starts from (and the record shows) is a search's, not a default.
+            self.research(state, searches, k);
+            self.research(state, searches, k + 1);
             k += 2;
         }
         Ok(())
+    }
+
+    /// Searches segment `k`'s α again between its current joints, from its current α, and keeps
+    /// the result if the search finds one (see [`Fitter::search`]).
+    fn research(&self, state: &mut State<'a>, searches: &mut [AlphaSearch], k: usize) {
+        let (a, b) = (state.joints[k], state.joints[k + 1]);
+        let guess = Some(state.alphas[k]);
+        if let Ok(found) = self.search(&a, &b, &state.samples[k], (a.u, b.u), guess, NEVER_ABANDON)
+        {
+            state.alphas[k] = found.alpha;
+            searches[k] = found.search;
+            if let Some((segment, deviation)) = found.fit {
+                state.remember(k, segment, deviation, self.chord_error);
+            }
+        }
+    }
+
+    /// Cuts segment `k` at the B-spline's point halfway (in the parameter) between its joints,
+    /// its samples split by their parameters, each half given its α search. Returns false (and
+    /// changes nothing) where that point is not apart from both joints.
+    fn split_on_curve(
+        &self,
+        state: &mut State<'a>,
+        searches: &mut Vec<AlphaSearch>,
+        k: usize,
+    ) -> bool {
+        let (a, b) = (state.joints[k], state.joints[k + 1]);
+        let um = 0.5 * (a.u + b.u);
+        let mid = self.joint_at(um, JointKind::Subdivision);
+        let apart = COINCIDENT_JOINT_FRACTION * self.tolerance;
+        if !(a.u < um && um < b.u) || mid.p.distance(a.p) <= apart || mid.p.distance(b.p) <= apart {
+            return false;
+        }
+        let params = self.params.as_slice();
+        let (first, second): (Vec<usize>, Vec<usize>) =
+            state.samples[k].iter().partition(|&&i| params[i] < um);
+        let alpha = state.alphas[k];
+        state.joints.insert(k + 1, mid);
+        state.alphas.splice(k..=k, [alpha, alpha]);
+        state.samples.splice(k..=k, [first, second]);
+        searches.splice(k..=k, [AlphaSearch::default(), AlphaSearch::default()]);
+        self.research(state, searches, k);
+        self.research(state, searches, k + 1);
+        true
     }
 
     /// Replaces runs of segments by one straight segment where a line between the run's outer
@@ -878,51 +964,95 @@ impl<'a> Fitter<'a> {
     }
 
     /// The output segments with their sample ranges and deviations.
-    fn finish(&self, state: &State, searches: Vec<AlphaSearch>) -> Result<Chain, ChainError> {
+    ///
+    /// Sample ranges tile the piece in order: every segment holds a run of consecutive samples
+    /// (its samples' parameters are non-decreasing along the stroke, see [`Fitter::new`]), and
+    /// its range runs from the first of them (the piece's first sample for the first segment)
+    /// to the sample before the next segment's first (the piece's last for the last segment),
+    /// so merged duplicates belong to the segment of the sample they were merged into. A
+    /// segment that holds no sample (it bridges the gap between two consecutive samples; its
+    /// `params` is `None`) has the one-sample range of the sample before it, shared with the
+    /// segment before it (with the next one's first if it is the first segment).
+    ///
+    /// A segment's `max_deviation` is over the samples it holds; the chain's is each sample's
+    /// distance to the whole chain (the nearest segment, not only its own), so that
+    /// `within_tolerance` and `max_deviation` state the guarantee itself.
+    fn finish(&self, state: &State, mut searches: Vec<AlphaSearch>) -> Result<Chain, ChainError> {
         let n = state.len();
+        // A spiral whose α no search chose (a placeholder where a search found nothing, or a
+        // line or arc the refinement bent since) is searched now between its final joints; the
+        // searched α is kept where it fits the samples no worse than the one it replaces, or
+        // within the tolerance.
+        let mut state = state.clone();
+        for k in 0..n {
+            let placeholder = searches[k].evaluations == 0
+                && state.segment(k).is_ok_and(|seg| seg.alpha().is_some());
+            if !placeholder {
+                continue;
+            }
+            let before = state.evaluate(k, self.chord_error).map(|e| e.max);
+            let mut trial = state.clone();
+            let mut trial_searches = searches.clone();
+            self.research(&mut trial, &mut trial_searches, k);
+            let after = trial.evaluate(k, self.chord_error).map(|e| e.max);
+            if let (Ok(after), before) = (after, before)
+                && trial_searches[k].evaluations > 0
+                && before.map_or(true, |b| after <= b.max(self.tolerance))
+            {
+                state = trial;
+                searches = trial_searches;
+            }
+        }
+        let state = &state;
         let mut segments = Vec::with_capacity(n);
-        let mut previous_end = self.input.samples.0;
-        for (k, search) in searches.into_iter().enumerate() {
-            // The last refinement or search measured it already (the memo), else measured now.
-            let evaluated =
-                state
-                    .evaluate(k, self.chord_error)
-                    .map_err(|source| ChainError::Span {
-                        u0: 0.0,
-                        u1: 0.0,
-                        source,
-                    })?;
-            let segment = evaluated.segment;
+        let evaluated = (0..n)
+            .map(|k| state.evaluate(k, self.chord_error))
+            .collect::<Result<Vec<_>, _>>()
+            .map_err(|source| ChainError::Span {
+                u0: 0.0,
+                u1: 0.0,
+                source,
+            })?;
+        // Each segment's first original sample index (None when it holds none).
+        let starts: Vec<Option<usize>> = (0..n)
+            .map(|k| {
+                state.samples[k]
+                    .iter()
+                    .map(|&i| self.input.indices[i])
+                    .min()
+            })
+            .collect();
+        let (piece_first, piece_last) = self.input.samples;
+        let mut previous_last: Option<usize> = None;
+        for (k, (search, evaluated)) in searches.into_iter().zip(&evaluated).enumerate() {
             let distances = &evaluated.residuals[..state.samples[k].len()];
             let rms = if distances.is_empty() {
                 0.0
             } else {
                 (distances.iter().map(|r| r * r).sum::<f64>() / distances.len() as f64).sqrt()
             };
-            let held: Vec<usize> = state.samples[k]
-                .iter()
-                .map(|&i| self.input.indices[i])
-                .collect();
-            let params = state.samples[k].iter().map(|&i| self.input.params[i]).fold(
+            let params = state.samples[k].iter().map(|&i| self.params[i]).fold(
                 None,
                 |acc: Option<(f64, f64)>, u| {
                     Some(acc.map_or((u, u), |(lo, hi)| (lo.min(u), hi.max(u))))
                 },
             );
-            let first = if k == 0 {
-                self.input.samples.0
+            let range = if starts[k].is_some() {
+                let first = previous_last.map_or(piece_first, |l| l + 1);
+                let last = starts[k + 1..]
+                    .iter()
+                    .find_map(|s| *s)
+                    .map_or(piece_last, |next| next.saturating_sub(1))
+                    .max(first);
+                previous_last = Some(last);
+                (first, last)
             } else {
-                held.iter().copied().min().unwrap_or(previous_end)
+                let at = previous_last.unwrap_or(piece_first);
+                (at, at)
             };
-            let last = if k + 1 == n {
-                self.input.samples.1
-            } else {
-                held.iter().copied().max().unwrap_or(first)
-            };
-            previous_end = last.max(first);
             segments.push(ChainSegment {
-                segment,
-                samples: (first, last.max(first)),
+                segment: evaluated.segment,
+                samples: range,
                 max_deviation: evaluated.max,
                 rms_deviation: rms,
                 search,
@@ -931,12 +1061,77 @@ impl<'a> Fitter<'a> {
                 params,
             });
         }
-        let max_deviation = segments.iter().map(|s| s.max_deviation).fold(0.0, f64::max);
+        let max_deviation = self.chain_deviation(state, &evaluated);
         Ok(Chain {
             segments,
             max_deviation,
             within_tolerance: max_deviation <= self.tolerance,
             refined: self.options.refine,
         })
+    }
+
+    /// The distance from `q` to a polyline through points of `segment` spaced so that the
+    /// segment stays within the chord error of it (a curve of curvature at most κ stays within
+    /// κh²/8 of the chord of an arc of length h; a log-aesthetic segment's largest |κ| is at an
+    /// end): the global distance to the segment, to the chord error, where a foot-point search
+    /// may settle on a local minimum.
+    fn traced_distance(&self, segment: &LacSegment, q: Point) -> f64 {
+        let kappa = segment.kappa0().abs().max(segment.kappa1().abs());
+        let spacing = if kappa > 0.0 {
+            (8.0 * self.chord_error / kappa).sqrt()
+        } else {
+            segment.length()
+        };
+        let mut best = f64::INFINITY;
+        let mut previous: Option<Point> = None;
+        for sample in segment.samples(spacing) {
+            let b = sample.point;
+            let a = previous.unwrap_or(b);
+            let ab = b - a;
+            let f = if ab.hypot2() > 0.0 {
+                ((q - a).dot(ab) / ab.hypot2()).clamp(0.0, 1.0)
+            } else {
+                0.0
+            };
+            best = best.min(q.distance(a + ab * f));
+            previous = Some(b);
+        }
+        best
+    }
+
+    /// The largest distance from a sample to the chain (its nearest segment). A sample's distance
+    /// to its own segment bounds its distance to the chain from above, so the samples are taken
+    /// farthest from their own segment first, each measured against the others too, until the
+    /// next one's own distance cannot beat the largest found: usually after one or two.
+    fn chain_deviation(&self, state: &State, evaluated: &[super::state::Evaluated]) -> f64 {
+        let mut own: Vec<(f64, usize, usize)> = Vec::new();
+        for (k, e) in evaluated.iter().enumerate() {
+            for (m, &i) in state.samples[k].iter().enumerate() {
+                own.push((e.residuals[m].abs(), k, i));
+            }
+        }
+        own.sort_by(|x, y| y.0.total_cmp(&x.0));
+        let mut worst: f64 = 0.0;
+        for &(d, _, i) in &own {
+            if d <= worst {
+                break;
+            }
+            // Its own segment too: a residual is the distance to a local foot point (Newton
+            // from a seed along the segment), which on a tightly curling segment need not be the
+            // nearest one (seen: 2.16 px from a sample lying on the segment's end).
+            let q = self.input.points[i];
+            let mut nearest = d;
+            for e in evaluated {
+                // Every point of a segment lies within half its length of its middle.
+                let length = e.segment.length();
+                if q.distance(e.segment.point(0.5 * length)) - 0.5 * length >= nearest {
+                    continue;
+                }
+                let local = deviation(&e.segment, &[q], self.chord_error).max;
+                nearest = nearest.min(local).min(self.traced_distance(&e.segment, q));
+            }
+            worst = worst.max(nearest);
+        }
+        worst
     }
 }

@@ -95,6 +95,37 @@ const ANGLE_TIE: f64 = 1e-9;
 /// decide it.
 const MIN_WINDOW_FRACTION: f64 = 0.25;
 
+/// A vertex of the polyline turning by more than this (radians) is a fold: the pen went back
+/// over its own path (an exact reversal on a whole-pixel grid turns by exactly π). No regular
+/// curve follows a fold: the least-squares B-spline through one has a cusp (its speed vanishes)
+/// and nothing after it can be fitted. The windowed angle sees a reversal too, but saturates at
+/// π on every sample within half a window of it, so a fold is found at its vertex. 170°: a turn
+/// this sharp between two samples is a reversal whatever the sampling; a smooth curve sampled
+/// at 3 or more points per right angle turns by at most 30° at a vertex.
+const FOLD_ANGLE: f64 = 170.0 * std::f64::consts::PI / 180.0;
+
+/// A fold is only a corner where the pen went back by more than this fraction of the window
+/// (both legs at the vertex, up to the next vertex that is not a near-duplicate): the window is
+/// 8 tolerances, so 1/8 is one tolerance. A back-step shorter than the tolerance is quantisation
+/// or tremor that a smooth curve absorbs within the tolerance (real strokes quantised to 0.5 px
+/// step back by half a pixel where the pen slows), and cutting there would put corners into
+/// smooth strokes.
+const FOLD_LEG_FRACTION: f64 = 0.125;
+
+/// Turning angle (radians, unsigned) at each polyline vertex, from its neighbours (0 at the
+/// ends).
+fn vertex_angles(points: &[Point]) -> Vec<f64> {
+    (0..points.len())
+        .map(|i| {
+            if i == 0 || i + 1 >= points.len() {
+                return 0.0;
+            }
+            let (v0, v1) = (points[i] - points[i - 1], points[i + 1] - points[i]);
+            v0.cross(v1).atan2(v0.dot(v1)).abs()
+        })
+        .collect()
+}
+
 /// Turning angle (radians, unsigned) at every point; `None` where a window is too short.
 pub fn turning_angles(points: &[Point], window: f64) -> Vec<Option<f64>> {
     turning_angles_along(points, &cumulative_lengths(points), window)
@@ -143,15 +174,22 @@ pub fn find_corners(points: &[Point], options: &CornerOptions) -> Cuts {
     let zone = (options.hook_fraction * total).min(options.hook_length);
     let corner = options.corner_angle.to_radians();
     let hook = options.hook_angle.to_radians();
+    let vertex = vertex_angles(points);
 
-    // Peaks: sharpest sample of each run above `threshold`.
+    // Peaks: sharpest sample of each run above `threshold`. Where the windowed angles tie (an
+    // exact reversal saturates them at π over a whole window), the sharper vertex wins: the
+    // reversal's apex, not the first sample of the run.
     let peaks = |threshold: f64, range: std::ops::Range<usize>| -> Vec<(usize, f64)> {
         let mut out = Vec::new();
         let mut best: Option<(usize, f64)> = None;
         for i in range {
             match angles[i] {
                 Some(a) if a > threshold => {
-                    if best.is_none_or(|(_, b)| a > b + ANGLE_TIE) {
+                    let sharper = |(j, b): (usize, f64)| {
+                        a > b + ANGLE_TIE
+                            || (a >= b - ANGLE_TIE && vertex[i] > vertex[j] + ANGLE_TIE)
+                    };
+                    if best.is_none_or(sharper) {
                         best = Some((i, a));
                     }
                 }
@@ -180,11 +218,20 @@ pub fn find_corners(points: &[Point], options: &CornerOptions) -> Cuts {
             last = i;
         }
     }
+    let min_leg = FOLD_LEG_FRACTION * options.window;
+    let folds = (first + 1..last).filter(|&i| {
+        vertex[i] > FOLD_ANGLE
+            && points[i].distance(points[i - 1]) > min_leg
+            && points[i].distance(points[i + 1]) > min_leg
+    });
     cuts.corners = peaks(corner, first..last + 1)
         .into_iter()
         .map(|(i, _)| i)
+        .chain(folds)
         .filter(|&i| i > first && i < last)
         .collect();
+    cuts.corners.sort_unstable();
+    cuts.corners.dedup();
     cuts
 }
 

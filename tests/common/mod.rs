@@ -1,6 +1,7 @@
 //! Synthetic strokes with known answers, and fixture loading by name.
 #![allow(dead_code)]
 
+pub mod adversarial;
 pub mod export;
 pub mod lac;
 

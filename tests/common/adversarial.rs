@@ -1,0 +1,425 @@
+//! Small adversarial strokes, as a browser pen on a whole-pixel grid draws them, and an
+//! independent check of what the pipeline makes of them.
+//!
+//! Self-contained (no `super::` items): the `fit_stroke` fuzz target includes this file by path.
+//!
+//! The generator is deterministic (SplitMix64 from a seed). Its classes are the ones that broke
+//! the pipeline on real handwriting: pixel-grid random walks, exact reversals along a line (out
+//! and back, once or several times), zigzags, jiggle in place (moves within 1–2 px), small
+//! circles (radius 2–20 px) rounded to whole pixels, near-duplicate samples (differences of
+//! 1e-12 relative), collinear runs, and strokes of very few distinct points (2 to 5). Most cases
+//! are in px at the default 0.5 px; some are scaled to mm at 0.1 mm, some use other tolerances.
+//!
+//! [`check`] measures each represented sample's distance to the chain itself, by evaluating
+//! every segment densely (see [`chain_polyline`] for the bound), and checks the report against
+//! it: the chain's `within_tolerance` and `max_deviation`, the segments' ranges tiling their
+//! piece, and every α being searched.
+#![allow(dead_code)]
+
+use kansei::geom::Point;
+use kansei::lac::LacSegment;
+use kansei::pipeline::{CurveFit, PipelineError};
+use kansei::stroke::{Sample, Stroke, Units};
+
+/// SplitMix64.
+pub struct SplitMix(u64);
+
+impl SplitMix {
+    /// A generator from a seed.
+    pub fn new(seed: u64) -> Self {
+        SplitMix(seed)
+    }
+
+    /// The next 64 random bits.
+    pub fn next_u64(&mut self) -> u64 {
+        self.0 = self.0.wrapping_add(0x9e37_79b9_7f4a_7c15);
+        let mut z = self.0;
+        z = (z ^ (z >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
+        z = (z ^ (z >> 27)).wrapping_mul(0x94d0_49bb_1331_11eb);
+        z ^ (z >> 31)
+    }
+
+    /// Uniform in [0, 1).
+    pub fn unit(&mut self) -> f64 {
+        (self.next_u64() >> 11) as f64 / (1u64 << 53) as f64
+    }
+
+    /// Uniform integer in `lo..=hi`.
+    pub fn int(&mut self, lo: i64, hi: i64) -> i64 {
+        lo + (self.next_u64() % (hi - lo + 1) as u64) as i64
+    }
+
+    /// Uniform in `lo..hi`.
+    pub fn range(&mut self, lo: f64, hi: f64) -> f64 {
+        lo + (hi - lo) * self.unit()
+    }
+}
+
+/// The classes of the generator.
+pub const CLASSES: [&str; 8] = [
+    "pixel-grid",
+    "reversal",
+    "zigzag",
+    "jiggle",
+    "circle",
+    "near-duplicate",
+    "collinear",
+    "few-distinct",
+];
+
+/// One generated stroke and the tolerance to fit it to.
+#[derive(Clone, Debug)]
+pub struct Case {
+    /// Class (one of [`CLASSES`]) and number within it.
+    pub name: String,
+    /// The stroke.
+    pub stroke: Stroke,
+    /// Its units.
+    pub units: Units,
+    /// Fitting tolerance.
+    pub tolerance: f64,
+}
+
+/// Integer directions for lines on the pixel grid.
+const DIRECTIONS: [(i64, i64); 8] = [
+    (1, 0),
+    (0, 1),
+    (1, 1),
+    (1, -1),
+    (2, 1),
+    (1, 2),
+    (3, -1),
+    (-2, 3),
+];
+
+/// Points of one stroke of class `class` (whole-pixel coordinates except the near-duplicates).
+pub fn points_of(class: &str, rng: &mut SplitMix) -> Vec<Point> {
+    let origin = (rng.int(50, 900) as f64, rng.int(50, 700) as f64);
+    let at = |x: f64, y: f64| Point::new(origin.0 + x, origin.1 + y);
+    let n = rng.int(20, 45) as usize;
+    let mut pts = Vec::with_capacity(n);
+    match class {
+        "pixel-grid" => {
+            let (mut x, mut y) = (0i64, 0i64);
+            // A walk with a drift, so it goes somewhere, and steps of 0 to 2 px.
+            let drift = DIRECTIONS[rng.int(0, 7) as usize];
+            for _ in 0..n {
+                pts.push(at(x as f64, y as f64));
+                if rng.unit() < 0.4 {
+                    x += drift.0.signum();
+                    y += drift.1.signum();
+                } else {
+                    x += rng.int(-1, 1) * rng.int(1, 2);
+                    y += rng.int(-1, 1);
+                }
+            }
+        }
+        "reversal" => {
+            let d = DIRECTIONS[rng.int(0, 7) as usize];
+            let length = rng.int(3, 20);
+            let reversals = rng.int(1, 4);
+            let step = rng.int(1, 2);
+            let mut k = 0i64;
+            let mut dir = step;
+            let mut turns = 0;
+            while turns <= reversals && pts.len() < 4 * n {
+                pts.push(at((k * d.0) as f64, (k * d.1) as f64));
+                // Sometimes the pen rests at the apex.
+                if (k == length || (k == 0 && turns > 0)) && rng.unit() < 0.3 {
+                    pts.push(at((k * d.0) as f64, (k * d.1) as f64));
+                }
+                k += dir;
+                if k >= length || k <= 0 {
+                    k = k.clamp(0, length);
+                    dir = -dir;
+                    turns += 1;
+                }
+            }
+            pts.push(at((k * d.0) as f64, (k * d.1) as f64));
+        }
+        "zigzag" => {
+            let amplitude = rng.int(1, 6) as f64;
+            let period = rng.int(2, 6) as usize;
+            let dx = rng.int(1, 3) as f64;
+            for i in 0..n {
+                let phase = (i % period) as f64 / period as f64;
+                let y = if phase < 0.5 { amplitude } else { -amplitude };
+                pts.push(at(i as f64 * dx, y.round()));
+            }
+        }
+        "jiggle" => {
+            let reach = rng.int(1, 2);
+            for _ in 0..n {
+                pts.push(at(
+                    rng.int(-reach, reach) as f64,
+                    rng.int(-reach, reach) as f64,
+                ));
+            }
+            // Half of them then leave in a short line.
+            if rng.unit() < 0.5 {
+                let d = DIRECTIONS[rng.int(0, 7) as usize];
+                for k in 1..rng.int(3, 12) {
+                    pts.push(at((k * d.0) as f64, (k * d.1) as f64));
+                }
+            }
+        }
+        "circle" => {
+            let r = rng.range(2.0, 20.0);
+            let turn = rng.range(0.5, 1.2) * std::f64::consts::TAU;
+            let a0 = rng.range(0.0, std::f64::consts::TAU);
+            for i in 0..n {
+                let a = a0 + turn * i as f64 / (n - 1) as f64;
+                pts.push(at((r * a.cos()).round(), (r * a.sin()).round()));
+            }
+        }
+        "near-duplicate" => {
+            // A smooth arc or line, each sample followed by copies moved by ~1e-12 relative.
+            let r = rng.range(10.0, 200.0);
+            let turn = rng.range(0.0, 2.0);
+            for i in 0..n {
+                let t = i as f64 / (n - 1) as f64;
+                let p = if turn < 0.3 {
+                    at(60.0 * t, 0.0)
+                } else {
+                    let a = turn * t;
+                    at(r * a.sin(), r * (1.0 - a.cos()))
+                };
+                pts.push(p);
+                for _ in 0..rng.int(0, 3) {
+                    let e = 1e-12 * p.x.abs().max(p.y.abs()) * rng.range(0.1, 3.0);
+                    pts.push(Point::new(p.x + e, p.y - e * rng.unit()));
+                }
+            }
+        }
+        "collinear" => {
+            // Runs along a line with uneven spacing, one or two turns between runs.
+            let runs = rng.int(1, 3);
+            let (mut x, mut y) = (0i64, 0i64);
+            for _ in 0..runs {
+                let d = DIRECTIONS[rng.int(0, 7) as usize];
+                for _ in 0..n / runs as usize {
+                    pts.push(at(x as f64, y as f64));
+                    let k = rng.int(0, 3);
+                    x += k * d.0;
+                    y += k * d.1;
+                }
+            }
+            pts.push(at(x as f64, y as f64));
+        }
+        "few-distinct" => {
+            let m = rng.int(2, 5) as usize;
+            let spots: Vec<Point> = (0..m)
+                .map(|_| at(rng.int(-6, 6) as f64, rng.int(-6, 6) as f64))
+                .collect();
+            // In order, each repeated, sometimes visiting an earlier spot again.
+            for (i, p) in spots.iter().enumerate() {
+                for _ in 0..rng.int(1, 6) {
+                    pts.push(*p);
+                }
+                if i > 0 && rng.unit() < 0.3 {
+                    pts.push(spots[rng.int(0, i as i64 - 1) as usize]);
+                }
+            }
+        }
+        other => panic!("no class {other}"),
+    }
+    pts
+}
+
+/// `per_class` cases of every class from `seed`: 70 % in px at 0.5, 10 % scaled to mm
+/// (1 px = 0.1 mm) at 0.1 mm, the rest in px at 0.25, 1 or 2.
+pub fn cases(per_class: usize, seed: u64) -> Vec<Case> {
+    let mut rng = SplitMix::new(seed);
+    let mut out = Vec::new();
+    for class in CLASSES {
+        for i in 0..per_class {
+            let pts = points_of(class, &mut rng);
+            let pick = rng.unit();
+            let (units, tolerance, scale) = if pick < 0.7 {
+                (Units::Px, 0.5, 1.0)
+            } else if pick < 0.8 {
+                (Units::Mm, 0.1, 0.1)
+            } else {
+                let t = [0.25, 1.0, 2.0][rng.int(0, 2) as usize];
+                (Units::Px, t, 1.0)
+            };
+            let samples = pts
+                .iter()
+                .enumerate()
+                .map(|(k, p)| Sample::new(p.x * scale, p.y * scale).with_t(k as f64 * 0.008))
+                .collect();
+            out.push(Case {
+                name: format!("{class}-{i}"),
+                stroke: Stroke::new(samples),
+                units,
+                tolerance,
+            });
+        }
+    }
+    out
+}
+
+/// What [`check`] found wrong with one stroke's fit.
+#[derive(Clone, Debug, Default)]
+pub struct Breaks {
+    /// The pipeline returned an error (its message).
+    pub error: Option<String>,
+    /// A curve says `within_tolerance` while a sample is farther than the tolerance, or its
+    /// `max_deviation` is not the true largest distance (messages).
+    pub guarantee: Vec<String>,
+    /// Curves that miss the tolerance and say so (not a break: reported honestly).
+    pub reported_misses: usize,
+    /// Segment ranges that do not tile their piece (messages).
+    pub tiling: Vec<String>,
+    /// Segments with an α that no search chose (messages).
+    pub unsearched: Vec<String>,
+}
+
+impl Breaks {
+    /// Whether nothing broke.
+    pub fn ok(&self) -> bool {
+        self.error.is_none()
+            && self.guarantee.is_empty()
+            && self.tiling.is_empty()
+            && self.unsearched.is_empty()
+    }
+}
+
+/// Chord error of the dense evaluation, as a fraction of the tolerance.
+pub const CHECK_CHORD_FRACTION: f64 = 1e-3;
+
+/// Most points per segment in the dense evaluation (the bound is then coarser, and stated).
+const MAX_POINTS_PER_SEGMENT: usize = 20_000;
+
+/// The chain's segments as one polyline per segment, with the largest distance `δ` between the
+/// polyline and the curve: vertices are exact points of the segment ([`LacSegment::point`]),
+/// spaced `h` apart in arc length, and a curve of curvature at most κ (a log-aesthetic segment's
+/// |κ| is monotonic, so κ = max(|κ0|, |κ1|)) stays within κh²/8 of the chord of an arc of length
+/// h. So for any point q, |dist(q, polyline) − dist(q, curve)| ≤ δ.
+pub fn chain_polyline(segments: &[&LacSegment], chord: f64) -> (Vec<Vec<Point>>, f64) {
+    let mut delta: f64 = 0.0;
+    let lines = segments
+        .iter()
+        .map(|seg| {
+            let kappa = seg.kappa0().abs().max(seg.kappa1().abs());
+            let length = seg.length();
+            let h = if kappa > 0.0 {
+                (8.0 * chord / kappa).sqrt()
+            } else {
+                length
+            };
+            let n = ((length / h).ceil() as usize).clamp(1, MAX_POINTS_PER_SEGMENT);
+            let h = length / n as f64;
+            delta = delta.max(kappa * h * h / 8.0);
+            (0..=n)
+                .map(|i| seg.point(length * i as f64 / n as f64))
+                .collect()
+        })
+        .collect();
+    (lines, delta)
+}
+
+/// Distance from `q` to a polyline.
+pub fn polyline_distance(q: Point, line: &[Point]) -> f64 {
+    if line.len() == 1 {
+        return q.distance(line[0]);
+    }
+    line.windows(2)
+        .map(|w| {
+            let (a, b) = (w[0], w[1]);
+            let ab = b - a;
+            let len2 = ab.hypot2();
+            let f = if len2 > 0.0 {
+                ((q - a).dot(ab) / len2).clamp(0.0, 1.0)
+            } else {
+                0.0
+            };
+            q.distance(a + ab * f)
+        })
+        .fold(f64::INFINITY, f64::min)
+}
+
+/// Checks one stroke's fit (see the module doc). `result` is what `fit_stroke` returned.
+pub fn check(case: &Case, result: &Result<Vec<CurveFit>, PipelineError>) -> Breaks {
+    let mut breaks = Breaks::default();
+    let curves = match result {
+        Ok(c) => c,
+        Err(e) => {
+            breaks.error = Some(e.to_string());
+            return breaks;
+        }
+    };
+    let tol = case.tolerance;
+    let samples = &case.stroke.samples;
+    for fit in curves {
+        let Some(chain) = &fit.chain else { continue };
+        let segs: Vec<&LacSegment> = chain.segments.iter().map(|s| &s.segment).collect();
+        let (lines, delta) = chain_polyline(&segs, CHECK_CHORD_FRACTION * tol);
+        // Rounding of the fitter's own exact foot points and of the coordinates.
+        let scale = samples
+            .iter()
+            .map(|s| s.x.abs().max(s.y.abs()))
+            .fold(1.0, f64::max);
+        let slack = delta + CHECK_CHORD_FRACTION * tol + 1e-9 * scale;
+        let (a, b) = fit.samples;
+        let mut worst: f64 = 0.0;
+        for i in a..=b {
+            let q = samples[i].point();
+            let d = lines
+                .iter()
+                .map(|l| polyline_distance(q, l))
+                .fold(f64::INFINITY, f64::min);
+            worst = worst.max(d);
+        }
+        if chain.within_tolerance && worst - slack > tol {
+            breaks.guarantee.push(format!(
+                "samples {a}..={b}: within_tolerance but a sample is {worst} > {tol} from the chain"
+            ));
+        }
+        if (worst - chain.max_deviation).abs() > slack {
+            breaks.guarantee.push(format!(
+                "samples {a}..={b}: max_deviation {} but the true largest distance is {worst}",
+                chain.max_deviation
+            ));
+        }
+        if !chain.within_tolerance {
+            breaks.reported_misses += 1;
+        }
+        // Ranges: the first starts the piece, the last ends it, each starts after the one before.
+        let ranges: Vec<(usize, usize)> = chain.segments.iter().map(|s| s.samples).collect();
+        if ranges.first().map(|r| r.0) != Some(a) || ranges.last().map(|r| r.1) != Some(b) {
+            breaks
+                .tiling
+                .push(format!("piece {a}..={b}: segments cover {ranges:?}"));
+        }
+        // Segments holding samples continue where the one before ended; a segment holding none
+        // (`params: None`) has the one-sample range of the last sample before it.
+        let mut previous: Option<usize> = None;
+        for (k, s) in chain.segments.iter().enumerate() {
+            let (f, l) = s.samples;
+            let ok = if s.params.is_some() {
+                f == previous.map_or(a, |p| p + 1) && l >= f
+            } else {
+                f == l && f == previous.unwrap_or(a)
+            };
+            if !ok {
+                breaks.tiling.push(format!(
+                    "piece {a}..={b}: segment {k} has {:?} after {previous:?} ({ranges:?})",
+                    s.samples
+                ));
+            }
+            if s.params.is_some() {
+                previous = Some(l);
+            }
+        }
+        for (k, s) in chain.segments.iter().enumerate() {
+            if s.segment.alpha().is_some() && s.search.evaluations == 0 {
+                breaks.unsearched.push(format!(
+                    "piece {a}..={b} segment {k}: alpha {:?} never searched",
+                    s.segment.alpha()
+                ));
+            }
+        }
+    }
+    breaks
+}
