@@ -1,0 +1,135 @@
+//! Every fixture file fitted whole with the default options, as `kansei fit` fits it: every
+//! stroke accounted for (curves, a dot, or an error record, exactly one), and every guarantee
+//! checked independently of the fitter's own report: each represented sample's distance to the
+//! whole final chain (a grid of the exact segments refined by golden-section search, see
+//! `common::export::project`), segment sample ranges tiling their piece in order, every α the
+//! result of a search.
+
+mod common;
+
+use std::collections::BTreeSet;
+
+use common::export::{grid_of, project};
+use kansei::pipeline::{FitOutput, PipelineOptions, fit_file};
+use kansei::stroke::StrokeFile;
+
+/// The grid search finds the nearest point to ~1e-11 of a grid step; the fitter measures with
+/// its own Newton/ITP projection. Both round at ~1e-12 of the tolerance-sized distances.
+const MEASURE_SLACK: f64 = 1e-6;
+
+/// Checks one fitted file; returns (pieces, segments, dots).
+fn check(name: &str, file: &StrokeFile, out: &FitOutput) -> (usize, usize, usize) {
+    let tol = out.tolerance;
+    // Every stroke in exactly one of curves, dots, failures.
+    let curved: BTreeSet<usize> = out.curves.iter().map(|c| c.stroke).collect();
+    let dotted: BTreeSet<usize> = out.dots.iter().map(|d| d.stroke).collect();
+    let failed: BTreeSet<usize> = out.failures.iter().map(|f| f.stroke).collect();
+    assert!(
+        out.failures.is_empty(),
+        "{name}: strokes failed: {:?}",
+        out.failures
+    );
+    for k in 0..file.strokes.len() {
+        let n = [&curved, &dotted, &failed]
+            .iter()
+            .filter(|s| s.contains(&k))
+            .count();
+        assert_eq!(n, 1, "{name}: stroke {k} is in {n} of curves, dots, errors");
+    }
+    for d in &out.dots {
+        let stroke = &file.strokes[d.stroke];
+        assert_eq!(d.samples, (0, stroke.samples.len() - 1), "{name}");
+        let worst = stroke
+            .samples
+            .iter()
+            .map(|s| s.point().distance(d.point))
+            .fold(0.0, f64::max);
+        assert!(
+            worst <= tol,
+            "{name}: dot of stroke {}: {worst} > {tol}",
+            d.stroke
+        );
+    }
+    let mut segments = 0;
+    for c in &out.curves {
+        let here = format!("{name} stroke {} samples {:?}", c.stroke, c.samples);
+        let chain = c.chain.as_ref().expect("the LAC stage ran");
+        assert!(!chain.segments.is_empty(), "{here}: no segments");
+        segments += chain.segments.len();
+        // Ranges tile the piece in order: the first starts it, the last ends it, and each next
+        // one starts at the previous one's last sample (a shared joint) or the one after.
+        let ranges: Vec<(usize, usize)> = chain.segments.iter().map(|s| s.samples).collect();
+        assert_eq!(ranges[0].0, c.samples.0, "{here}: {ranges:?}");
+        assert_eq!(
+            ranges[ranges.len() - 1].1,
+            c.samples.1,
+            "{here}: {ranges:?}"
+        );
+        for w in ranges.windows(2) {
+            assert!(w[0].0 <= w[0].1, "{here}: {ranges:?}");
+            assert!(
+                w[1].0 == w[0].1 || w[1].0 == w[0].1 + 1,
+                "{here}: ranges do not tile: {ranges:?}"
+            );
+        }
+        // Every α searched (or forced, or none for a line or an arc).
+        for (i, s) in chain.segments.iter().enumerate() {
+            assert!(
+                s.segment.alpha().is_none() || s.search.evaluations > 0,
+                "{here}: segment {i} has α {:?} from no search",
+                s.segment.alpha()
+            );
+        }
+        // Every represented sample within the tolerance of the whole chain, measured here.
+        let grids: Vec<_> = chain.segments.iter().map(|s| grid_of(&s.segment)).collect();
+        let samples = &file.strokes[c.stroke].samples[c.samples.0..=c.samples.1];
+        let mut worst: f64 = 0.0;
+        for s in samples {
+            let q = s.point();
+            let d = chain
+                .segments
+                .iter()
+                .zip(&grids)
+                .map(|(seg, grid)| project(&seg.segment, grid, q).1)
+                .fold(f64::INFINITY, f64::min);
+            worst = worst.max(d);
+        }
+        if chain.within_tolerance {
+            assert!(
+                worst <= tol * (1.0 + MEASURE_SLACK),
+                "{here}: a sample lies {worst} from the chain, tolerance {tol}, reported within"
+            );
+        } else {
+            // Honest when it says it is not: the reported figure is at least the true one.
+            assert!(
+                chain.max_deviation >= worst * (1.0 - MEASURE_SLACK),
+                "{here}: reported {} < measured {worst}",
+                chain.max_deviation
+            );
+        }
+    }
+    (out.curves.len(), segments, out.dots.len())
+}
+
+#[test]
+fn every_fixture_file_fits_whole_with_every_stroke_accounted_for() {
+    let mut totals = (0, 0, 0, 0);
+    for name in common::fixture_names() {
+        let file = common::fixture(&name);
+        let out = fit_file(&file, &PipelineOptions::default()).expect("options are valid");
+        let (pieces, segments, dots) = check(&name, &file, &out);
+        eprintln!(
+            "{name}: {} strokes, {pieces} pieces, {segments} segments, {dots} dots",
+            file.strokes.len()
+        );
+        totals.0 += file.strokes.len();
+        totals.1 += pieces;
+        totals.2 += segments;
+        totals.3 += dots;
+    }
+    eprintln!(
+        "all fixtures: {} strokes, {} pieces, {} segments, {} dots",
+        totals.0, totals.1, totals.2, totals.3
+    );
+    assert!(totals.0 >= 38, "only {} fixture strokes", totals.0);
+}
