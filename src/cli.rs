@@ -7,10 +7,11 @@ use std::time::Instant;
 use clap::{Args, Parser, Subcommand};
 
 use crate::export::{CurveFile, DxfOptions, ExportOptions, SvgOptions, dxf_drawing, svg_document};
+use crate::io::{read_strokes, write_atomic};
 use crate::lac::AlphaChoice;
 use crate::pipeline::{PipelineOptions, fit_file};
 use crate::render::{Overlays, RenderOptions};
-use crate::stroke::{StrokeError, StrokeFile};
+use crate::stroke::StrokeFile;
 
 /// kansei: pen strokes to log-aesthetic curves.
 #[derive(Debug, Parser)]
@@ -62,7 +63,12 @@ pub struct AppArgs {
     #[arg(long)]
     pub tablet_replay: Option<PathBuf>,
     /// Pace of `--tablet-replay` (1 = as recorded).
-    #[arg(long, default_value_t = 1.0, requires = "tablet_replay")]
+    #[arg(
+        long,
+        default_value_t = 1.0,
+        requires = "tablet_replay",
+        allow_negative_numbers = true
+    )]
     pub tablet_speed: f64,
 }
 
@@ -80,7 +86,7 @@ pub struct CaptureArgs {
     #[arg(long)]
     pub raw: Option<PathBuf>,
     /// Stop after this many seconds [default: until Ctrl-C or the tablet is unplugged].
-    #[arg(long)]
+    #[arg(long, allow_negative_numbers = true)]
     pub duration: Option<f64>,
     /// Testing: capture from a hid-recorder recording instead of a tablet.
     #[arg(long, hide = true, conflicts_with = "device")]
@@ -90,7 +96,12 @@ pub struct CaptureArgs {
     pub fail_after_reports: Option<usize>,
     /// Testing: with --from-recording, deliver the reports at this times their recorded pace
     /// (a tablet being drawn on, so that a signal can arrive mid-stroke).
-    #[arg(long, hide = true, requires = "from_recording")]
+    #[arg(
+        long,
+        hide = true,
+        requires = "from_recording",
+        allow_negative_numbers = true
+    )]
     pub pace: Option<f64>,
 }
 
@@ -109,10 +120,10 @@ pub struct ReplayArgs {
 pub struct FitSettings {
     /// Largest distance from any sample to the curve, in the file's units
     /// [default: mm 0.1, px 0.5, device 20].
-    #[arg(long)]
+    #[arg(long, allow_negative_numbers = true)]
     pub tolerance: Option<f64>,
-    /// Turning angle (degrees) above which the stroke is cut at a corner.
-    #[arg(long, default_value_t = 70.0)]
+    /// Turning angle (degrees, 0 to 180) above which the stroke is cut at a corner.
+    #[arg(long, default_value_t = 70.0, allow_negative_numbers = true, value_parser = parse_corner_angle)]
     pub corner_angle: f64,
     /// Keep the pen's landing and lifting as drawn (hooks and dwell) instead of dropping them.
     #[arg(long)]
@@ -132,6 +143,18 @@ fn parse_size(text: &str) -> Result<(u32, u32), String> {
         .ok_or_else(|| format!("expected WIDTHxHEIGHT, got {text:?}"))?;
     let parse = |x: &str| x.trim().parse::<u32>().map_err(|e| format!("{x:?}: {e}"));
     Ok((parse(w)?, parse(h)?))
+}
+
+/// Parses a corner angle: degrees from 0 (every turn is a corner) to 180 (none is).
+fn parse_corner_angle(text: &str) -> Result<f64, String> {
+    let angle: f64 = text.trim().parse().map_err(|e| format!("{text:?}: {e}"))?;
+    if (0.0..=180.0).contains(&angle) {
+        Ok(angle)
+    } else {
+        Err(format!(
+            "the corner angle is in degrees from 0 to 180, got {angle}"
+        ))
+    }
 }
 
 /// Parses `MIN:MAX` into a finite, non-empty interval.
@@ -190,7 +213,7 @@ pub struct FitArgs {
     pub dxf: Option<PathBuf>,
     /// Largest distance between the exported SVG/DXF curves and the exact LAC chain, in the
     /// file's units [default: a tenth of the tolerance].
-    #[arg(long, alias = "svg-accuracy")]
+    #[arg(long, alias = "svg-accuracy", allow_negative_numbers = true)]
     pub export_accuracy: Option<f64>,
     /// Also write a PNG (by default samples, B-spline, split markers, LAC segments coloured by
     /// α, legend, scale bar; see --png-layers), drawn by the `render` module. With several
@@ -221,7 +244,7 @@ pub struct BenchArgs {
     pub inputs: Vec<PathBuf>,
     /// Tolerances to measure, in each file's units (repeat the flag) [default: the unit's
     /// default and twice it].
-    #[arg(long = "tolerance")]
+    #[arg(long = "tolerance", allow_negative_numbers = true)]
     pub tolerances: Vec<f64>,
     /// Timed repetitions per stroke; the median is reported.
     #[arg(long, default_value_t = 15)]
@@ -239,14 +262,10 @@ pub enum CliError {
         /// The cause.
         source: std::io::Error,
     },
-    /// A stroke file was refused.
-    #[error("{path}: {source}")]
-    Stroke {
-        /// The file.
-        path: PathBuf,
-        /// The cause.
-        source: StrokeError,
-    },
+    /// A file could not be read (strokes, recordings) or written (outputs); see
+    /// [`crate::io`].
+    #[error(transparent)]
+    File(#[from] crate::io::FileError),
     /// The pipeline failed.
     #[error("{path}: {source}")]
     Pipeline {
@@ -487,9 +506,12 @@ fn capture(args: &CaptureArgs, out: &mut dyn std::io::Write) -> Result<(), CliEr
         None => open_live(args.device.as_deref())?,
     };
     let info = source.info().clone();
-    let write_error = |e: crate::capture::writer::WriteError| CliError::Capture {
-        path: args.out.clone(),
-        message: e.to_string(),
+    let write_error = |e: crate::capture::writer::WriteError| match e {
+        crate::capture::writer::WriteError::File(e) => CliError::File(e),
+        e => CliError::Capture {
+            path: args.out.clone(),
+            message: e.to_string(),
+        },
     };
     let label = format!(
         "kansei capture ({}): {}",
@@ -578,88 +600,6 @@ fn install_ctrlc() {
 #[cfg(not(feature = "live"))]
 fn install_ctrlc() {}
 
-/// Reads and validates strokes from any supported file, chosen by extension: hid-recorder
-/// `.hid`, W3C `.inkml`, evemu `.events`/`.evemu`, and `kansei-stroke` JSON (anything else).
-pub fn read_strokes(path: &Path) -> Result<StrokeFile, CliError> {
-    let text = std::fs::read_to_string(path).map_err(|source| CliError::Io {
-        path: path.to_owned(),
-        source,
-    })?;
-    let extension = path
-        .extension()
-        .map(|e| e.to_string_lossy().to_ascii_lowercase());
-    let capture = |message: String| CliError::Capture {
-        path: path.to_owned(),
-        message,
-    };
-    match extension.as_deref() {
-        Some("hid") => {
-            let (file, stats) =
-                crate::capture::replay::replay_text(&text).map_err(|e| capture(e.to_string()))?;
-            if stats.warnings() > 0 {
-                eprintln!(
-                    "warning: {}: {} reports or lines skipped",
-                    path.display(),
-                    stats.warnings()
-                );
-                for w in stats.first_recorder_warnings.iter().take(WARNED_LINES) {
-                    eprintln!("  line {}: {}", w.line, w.message);
-                }
-                for (line, error) in stats.first_decode_errors.iter().take(WARNED_LINES) {
-                    eprintln!("  line {line}: {error}");
-                }
-            }
-            Ok(file)
-        }
-        Some("inkml") => crate::capture::inkml::read(&text).map_err(|e| capture(e.to_string())),
-        Some("ndjson") => {
-            crate::capture::quickdraw::read(&text).map_err(|e| capture(e.to_string()))
-        }
-        Some("events") | Some("evemu") => {
-            let (file, stats) =
-                crate::capture::evemu::read(&text).map_err(|e| capture(e.to_string()))?;
-            let erasers = stats.eraser.iter().filter(|&&e| e).count();
-            if erasers > 0 {
-                eprintln!("note: {}: {erasers} eraser strokes", path.display());
-            }
-            warn_evemu(path, &stats);
-            Ok(file)
-        }
-        _ => StrokeFile::read_json(&text).map_err(|source| CliError::Stroke {
-            path: path.to_owned(),
-            source,
-        }),
-    }
-}
-
-/// Skipped lines printed with their numbers per kind of warning; the rest are counted.
-const WARNED_LINES: usize = 3;
-
-/// An evemu recording's skipped lines, values and frames, each count with its first lines.
-fn warn_evemu(path: &Path, stats: &crate::capture::evemu::EvemuStats) {
-    use crate::capture::evemu::EvemuProblem;
-    let kinds = [
-        (stats.garbage_lines, "lines that do not parse"),
-        (stats.out_of_range, "values out of their axis range"),
-        (stats.dropped_frames, "frames dropped (SYN_DROPPED)"),
-    ];
-    let kind = |p: &EvemuProblem| match p {
-        EvemuProblem::Garbage => 0,
-        EvemuProblem::OutOfRange(_) => 1,
-        EvemuProblem::Dropped => 2,
-    };
-    for (k, (count, what)) in kinds.into_iter().enumerate() {
-        if count == 0 {
-            continue;
-        }
-        eprintln!("warning: {}: {count} {what} skipped", path.display());
-        let first = stats.warnings.iter().filter(|w| kind(&w.problem) == k);
-        for w in first.take(WARNED_LINES) {
-            eprintln!("  line {}: {}", w.line, w.problem);
-        }
-    }
-}
-
 fn fit(args: &FitArgs, out: &mut dyn std::io::Write) -> Result<(), CliError> {
     let options = args.settings.options();
     if let Some(t) = options.tolerance
@@ -684,15 +624,17 @@ fn fit(args: &FitArgs, out: &mut dyn std::io::Write) -> Result<(), CliError> {
         )));
     }
     let several = args.inputs.len() > 1;
+    // Every output's directory is checked (with several inputs, made) before anything is
+    // written: a mistyped directory leaves no other output behind.
     for dir in [&args.json, &args.svg, &args.dxf, &args.png]
         .into_iter()
         .flatten()
-        .filter(|_| several)
     {
-        std::fs::create_dir_all(dir).map_err(|source| CliError::Io {
-            path: dir.clone(),
-            source,
-        })?;
+        if several {
+            crate::io::create_output_dir(dir)?;
+        } else {
+            crate::io::check_output(dir)?;
+        }
     }
     let target = |input: &Path, path: &PathBuf, extension: &str| -> PathBuf {
         if several {
@@ -874,30 +816,6 @@ fn warn_beyond_accuracy(path: &Path, error: f64, accuracy: f64) {
     }
 }
 
-/// Writes through a temporary file and a rename, so a reader never sees half a file; a device
-/// or FIFO (`/dev/null`, `/dev/stdout`) is written in place instead
-/// ([`crate::capture::writer::write_special`]).
-pub fn write_atomic(path: &Path, bytes: &[u8]) -> Result<(), CliError> {
-    let io = |source| CliError::Io {
-        path: path.to_owned(),
-        source,
-    };
-    if let Some(done) = crate::capture::writer::write_special(path, bytes) {
-        return done.map_err(io);
-    }
-    if let Some(dir) = path.parent().filter(|d| !d.as_os_str().is_empty()) {
-        std::fs::create_dir_all(dir).map_err(io)?;
-    }
-    let mut tmp = path.as_os_str().to_owned();
-    tmp.push(".tmp");
-    let tmp = PathBuf::from(tmp);
-    std::fs::write(&tmp, bytes).map_err(|source| CliError::Io {
-        path: tmp.clone(),
-        source,
-    })?;
-    std::fs::rename(&tmp, path).map_err(io)
-}
-
 /// A benchmark row's label and how it derives the tolerance from a file's unit default.
 type ToleranceSetting = (String, Box<dyn Fn(f64) -> f64>);
 
@@ -918,6 +836,15 @@ impl BenchTally {
 }
 
 fn bench(args: &BenchArgs, out: &mut dyn std::io::Write) -> Result<(), CliError> {
+    if let Some(t) = args
+        .tolerances
+        .iter()
+        .find(|t| !(t.is_finite() && **t > 0.0))
+    {
+        return Err(CliError::Usage(format!(
+            "--tolerance must be a positive number, got {t}"
+        )));
+    }
     let inputs = if args.inputs.is_empty() {
         // The working directory's fixtures (a checkout's root), else those of the checkout the
         // binary was built from.

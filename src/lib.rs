@@ -14,8 +14,10 @@
 //! 6. [`export`]: `kansei-curve` JSON (with JSON Schemas), SVG and DXF within a stated error
 //!    of the exact curves; [`render`]: raster images (PNG, the app's canvas) drawn with tiny-skia.
 //!
-//! [`pipeline`] composes the stages; [`cli`] is the command line; `app` (feature `app`) is the
-//! sketch app, `kansei app`: draw, watch the chain appear, study its curvature.
+//! [`pipeline`] composes the stages; [`io`] reads strokes from every supported file and writes
+//! outputs atomically, never creating directories or replacing a file by accident; [`cli`] is
+//! the command line; `app` (feature `app`) is the sketch app, `kansei app`: draw, watch the
+//! chain appear, study its curvature.
 //!
 //! ```
 //! use kansei::pipeline::{PipelineOptions, fit_file};
@@ -41,6 +43,7 @@ pub mod chain;
 pub mod cli;
 pub mod export;
 pub mod geom;
+pub mod io;
 pub mod lac;
 pub mod pipeline;
 pub mod prepare;

@@ -572,7 +572,17 @@ fn the_apps_svg_export_writes_one_path_per_stroke_with_the_samples_layer() {
         let file = StrokeFile::from_json(&text).expect("parses");
         let output = fit_file(&file, &PipelineOptions::default()).expect("fits");
         let svg = dir.join(format!("{name}.svg"));
-        kansei::app::files::export_svg(&svg, &file, &output).expect("writes");
+        use kansei::app::files::{ExportKind, Overwrite, export};
+        let png = kansei::render::RenderOptions::default();
+        export(
+            &svg,
+            ExportKind::Svg,
+            &file,
+            &output,
+            &png,
+            Overwrite::Never,
+        )
+        .expect("writes");
         let text = std::fs::read_to_string(&svg).expect("reads");
         let doc = roxmltree::Document::parse(&text).expect("well-formed");
         let layer = |id: &str| {
@@ -591,5 +601,160 @@ fn the_apps_svg_export_writes_one_path_per_stroke_with_the_samples_layer() {
         let samples: usize = file.strokes.iter().map(|s| s.samples.len()).sum();
         assert_eq!(layer("samples"), Some(samples), "{name}");
     }
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// Steps a few frames (a new window sizes itself on its first frame and shows on the next).
+fn settle(harness: &mut Harness<'static, KanseiApp>) {
+    for _ in 0..3 {
+        harness.step();
+    }
+}
+
+/// The opened drawing is never an export's target: each export goes to its own file next to
+/// it, with its own extension, and an existing file is replaced only once the user says so.
+#[test]
+fn exports_get_their_own_paths_and_ask_before_replacing_a_file() {
+    let dir = temp_dir("exports");
+    let opened = dir.join("waves.json");
+    std::fs::copy(
+        format!(
+            "{}/fixtures/strokes/perfect-freehand-waves.json",
+            env!("CARGO_MANIFEST_DIR")
+        ),
+        &opened,
+    )
+    .expect("copy the fixture");
+    let original = std::fs::read(&opened).expect("read");
+    let mut harness = harness(AppOptions {
+        open: Some(opened.clone()),
+        ..AppOptions::default()
+    });
+    wait_for_fits(&mut harness);
+    assert_eq!(PathBuf::from(&harness.state().view.path), opened);
+    let exports = [
+        ("Export JSON", "waves.curve.json"),
+        ("Export SVG", "waves.svg"),
+        ("Export DXF", "waves.dxf"),
+        ("Export PNG", "waves.png"),
+    ];
+    for (button, name) in exports {
+        harness.get_by_label(button).click();
+        settle(&mut harness);
+        assert!(
+            harness.state().pending_replace().is_none(),
+            "{button} asked"
+        );
+        assert!(dir.join(name).is_file(), "{button} did not write {name}");
+        assert_eq!(std::fs::read(&opened).expect("read"), original, "{button}");
+    }
+    let curves = std::fs::read_to_string(dir.join("waves.curve.json")).expect("read");
+    kansei::export::CurveFile::from_json(&curves).expect("a curve file");
+    assert!(
+        std::fs::read_to_string(dir.join("waves.svg"))
+            .expect("read")
+            .contains("<svg")
+    );
+    assert!(
+        std::fs::read(dir.join("waves.png"))
+            .expect("read")
+            .starts_with(b"\x89PNG")
+    );
+    let mut names: Vec<String> = std::fs::read_dir(&dir)
+        .expect("dir")
+        .filter_map(Result::ok)
+        .map(|e| e.file_name().to_string_lossy().into_owned())
+        .collect();
+    names.sort();
+    assert_eq!(
+        names,
+        [
+            "waves.curve.json",
+            "waves.dxf",
+            "waves.json",
+            "waves.png",
+            "waves.svg"
+        ]
+    );
+
+    // An existing target: the export asks and writes nothing until confirmed.
+    let svg = dir.join("waves.svg");
+    std::fs::write(&svg, "the user's own SVG").expect("write");
+    harness.get_by_label("Export SVG").click();
+    settle(&mut harness);
+    let pending = harness.state().pending_replace().cloned();
+    assert_eq!(pending.map(|p| p.path), Some(svg.clone()));
+    harness.get_by_label("Replace waves.svg?");
+    assert_eq!(
+        std::fs::read_to_string(&svg).expect("read"),
+        "the user's own SVG"
+    );
+    harness.get_by_label("Cancel").click();
+    settle(&mut harness);
+    assert!(harness.state().pending_replace().is_none());
+    assert!(harness.query_by_label("Replace waves.svg?").is_none());
+    assert_eq!(
+        std::fs::read_to_string(&svg).expect("read"),
+        "the user's own SVG"
+    );
+    harness.get_by_label("Export SVG").click();
+    settle(&mut harness);
+    harness.get_by_label("Replace").click();
+    settle(&mut harness);
+    assert!(
+        std::fs::read_to_string(&svg)
+            .expect("read")
+            .contains("<svg"),
+        "replaced once confirmed"
+    );
+    assert_eq!(std::fs::read(&opened).expect("read"), original);
+
+    // Save over the drawing's own file is the normal Save; over another file it asks.
+    harness.get_by_label("Save").click();
+    settle(&mut harness);
+    assert!(harness.state().pending_replace().is_none());
+    let saved =
+        kansei::stroke::StrokeFile::from_json(&std::fs::read_to_string(&opened).expect("read"))
+            .expect("a stroke file");
+    assert_eq!(
+        saved.strokes.len(),
+        harness.state().document().strokes().len()
+    );
+    harness.state_mut().view.path = svg.display().to_string();
+    settle(&mut harness);
+    let before = std::fs::read(&svg).expect("read");
+    harness.get_by_label("Save").click();
+    settle(&mut harness);
+    assert!(
+        harness.state().pending_replace().is_some(),
+        "Save over another file asks"
+    );
+    harness.get_by_label("Cancel").click();
+    settle(&mut harness);
+    assert_eq!(std::fs::read(&svg).expect("read"), before);
+
+    // An export never targets a stroke file, even when asked to replace it.
+    let stroke_copy = dir.join("copy.curve.json");
+    std::fs::copy(&opened, &stroke_copy).expect("copy");
+    harness.state_mut().view.path = stroke_copy.display().to_string();
+    settle(&mut harness);
+    harness.get_by_label("Export JSON").click();
+    settle(&mut harness);
+    if harness.state().pending_replace().is_some() {
+        harness.get_by_label("Replace").click();
+        settle(&mut harness);
+    }
+    assert_eq!(
+        std::fs::read(&stroke_copy).expect("read"),
+        std::fs::read(&opened).expect("read")
+    );
+    assert!(
+        harness
+            .state()
+            .status()
+            .is_some_and(|s| s.error && s.text.contains("stroke file")),
+        "{:?}",
+        harness.state().status()
+    );
     let _ = std::fs::remove_dir_all(&dir);
 }

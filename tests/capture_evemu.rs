@@ -339,3 +339,71 @@ fn eraser_strokes_are_marked_in_the_device_object_like_hid_replay() {
         serde_json::json!([])
     );
 }
+
+/// The same recording split as old evemu recordings are kept (fixtures/evemu/README.md): a
+/// `.desc` device description and a header-less `.events` file.
+const DESCRIPTION: &str = include_str!("../fixtures/evemu/pen-two-strokes.desc");
+const EVENTS: &str = include_str!("../fixtures/evemu/pen-two-strokes.events");
+
+#[test]
+fn a_description_and_a_headerless_events_file_read_as_the_combined_recording() {
+    use kansei::capture::evemu::EvemuRecording;
+    let (combined, combined_stats) = evemu::read(RECORDING).expect("reads");
+    // The events alone are not a recording: no header.
+    assert!(matches!(evemu::read(EVENTS), Err(EvemuError::NotEvemu(_))));
+    let rec = EvemuRecording::parse_description(DESCRIPTION)
+        .expect("a description")
+        .with_events(EVENTS, "pen-two-strokes.desc")
+        .expect("events");
+    let (split, stats) = evemu::replay(&rec).expect("replays");
+    assert_eq!(split.strokes, combined.strokes);
+    assert_eq!(split.units, combined.units);
+    assert_eq!(split.device, combined.device);
+    assert_eq!(stats.eraser, combined_stats.eraser);
+    assert_eq!(
+        (stats.events, stats.frames, stats.garbage_lines),
+        (55, combined_stats.frames, 0)
+    );
+    assert!(
+        split
+            .source
+            .as_deref()
+            .is_some_and(|s| s.contains("pen-two-strokes.desc")),
+        "{:?}",
+        split.source
+    );
+    // A description without its `# EVEMU` line (format 1.0 assumed) describes the same device.
+    let bare: String = DESCRIPTION
+        .lines()
+        .filter(|l| !l.starts_with('#'))
+        .map(|l| format!("{l}\n"))
+        .collect();
+    let rec = EvemuRecording::parse_description(&bare)
+        .expect("a description")
+        .with_events(EVENTS, "bare.desc")
+        .expect("events");
+    assert_eq!(rec.version, "1.0");
+    assert_eq!(
+        evemu::replay(&rec).expect("replays").0.strokes,
+        combined.strokes
+    );
+}
+
+#[test]
+fn a_bad_description_is_refused_with_its_line() {
+    use kansei::capture::evemu::EvemuRecording;
+    assert_eq!(
+        EvemuRecording::parse_description("N: pen\nA: 00 0 100\n"),
+        Err(EvemuError::BadDescription(2))
+    );
+    assert_eq!(
+        EvemuRecording::parse_description("# only a comment\n"),
+        Err(EvemuError::NoDescription)
+    );
+    assert_eq!(
+        EvemuRecording::parse_description(DESCRIPTION)
+            .expect("a description")
+            .with_events(" \n", "x.desc"),
+        Err(EvemuError::Empty)
+    );
+}

@@ -55,6 +55,7 @@ fn fit_writes_a_kansei_curve_document() {
 #[test]
 fn alpha_can_be_fixed_or_limited_and_svg_and_dxf_written() {
     let dir = std::env::temp_dir().join(format!("kansei-cli-alpha-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).expect("temp dir");
     let svg = dir.join("spring.svg");
     let dxf = dir.join("spring.dxf");
     let out = run_ok(
@@ -302,6 +303,7 @@ fn a_recording_replays_and_fits_end_to_end() {
         env!("CARGO_MANIFEST_DIR")
     );
     let dir = std::env::temp_dir().join(format!("kansei-cli-replay-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).expect("temp dir");
     let strokes = dir.join("strokes.json");
     run_ok(kansei().args(["replay", &recording, "--out"]).arg(&strokes));
     let file =
@@ -439,4 +441,170 @@ fn replay_warnings_name_counts_and_lines() {
         "{err}"
     );
     let _ = std::fs::remove_dir_all(dir);
+}
+
+/// Numeric options take negative numbers as values, so that kansei's own checks answer (not
+/// clap's advice to write `-- -1`), and `--alpha -1` and `--alpha-range -3:-1` work.
+#[test]
+fn negative_numbers_reach_kanseis_own_checks() {
+    let waves = fixture("perfect-freehand-waves");
+    for (args, expected) in [
+        (
+            vec!["fit", &waves, "--tolerance", "-1"],
+            "--tolerance must be a positive number, got -1",
+        ),
+        (
+            vec!["fit", &waves, "--export-accuracy", "-0.5"],
+            "--export-accuracy must be a positive number, got -0.5",
+        ),
+        (
+            vec!["bench", &waves, "--tolerance", "-1"],
+            "--tolerance must be a positive number, got -1",
+        ),
+        (
+            vec!["fit", &waves, "--corner-angle", "-5"],
+            "the corner angle is in degrees from 0 to 180, got -5",
+        ),
+    ] {
+        let out = kansei().args(&args).output().expect("runs");
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert!(!out.status.success(), "{args:?}");
+        assert!(err.contains(expected), "{args:?}: {err}");
+        assert!(!err.contains("use '--"), "{args:?}: {err}");
+    }
+    for args in [
+        vec!["fit", &waves, "--alpha", "-1"],
+        vec!["fit", &waves, "--alpha-range", "-3:-1"],
+        vec!["fit", &waves, "--corner-angle", "100", "--tolerance", "0.8"],
+    ] {
+        let out = run_ok(kansei().args(&args));
+        let doc = kansei::export::CurveFile::from_json(&String::from_utf8_lossy(&out.stdout))
+            .expect("valid");
+        assert!(!doc.curves.is_empty(), "{args:?}");
+    }
+}
+
+/// An output in a directory that does not exist is an error naming the directory, and nothing
+/// is written: not that output, not the others, no directory.
+#[test]
+fn an_output_in_a_missing_directory_fails_naming_it_and_writes_nothing() {
+    let dir = std::env::temp_dir().join(format!("kansei-cli-nodir-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).expect("temp dir");
+    let waves = fixture("perfect-freehand-waves");
+    assert!(!std::path::Path::new("/no-such-dir").exists());
+    let out = kansei()
+        .args(["fit", &waves, "--svg", "/no-such-dir/x.svg"])
+        .output()
+        .expect("runs");
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(1), "{err}");
+    assert!(
+        err.contains("/no-such-dir") && err.contains("does not exist"),
+        "{err}"
+    );
+    assert!(!std::path::Path::new("/no-such-dir").exists());
+    // The JSON's directory exists, the PNG's does not: neither is written.
+    let json = dir.join("waves.curve.json");
+    let png = dir.join("missing").join("waves.png");
+    let out = kansei()
+        .args(["fit", &waves, "--json"])
+        .arg(&json)
+        .arg("--png")
+        .arg(&png)
+        .output()
+        .expect("runs");
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(1), "{err}");
+    assert!(
+        err.contains(&dir.join("missing").display().to_string()),
+        "{err}"
+    );
+    // Several inputs: the output directory is made, but only under a parent that exists.
+    let out = kansei()
+        .args(["fit", &waves, &fixture("google-ink-spring"), "--json"])
+        .arg(dir.join("a").join("b"))
+        .output()
+        .expect("runs");
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(1), "{err}");
+    assert!(err.contains("does not exist"), "{err}");
+    let names: Vec<_> = std::fs::read_dir(&dir)
+        .expect("dir")
+        .filter_map(Result::ok)
+        .map(|e| e.file_name())
+        .collect();
+    assert!(names.is_empty(), "{names:?}");
+    // `kansei replay --out` and `kansei capture --out` follow the same rule.
+    let out = kansei()
+        .args(["replay", &waves, "--out"])
+        .arg(dir.join("missing").join("x.json"))
+        .output()
+        .expect("runs");
+    assert_eq!(out.status.code(), Some(1));
+    assert!(String::from_utf8_lossy(&out.stderr).contains("does not exist"));
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// Outputs go through a temporary file of their own: a file named like the old `OUT.tmp` is
+/// the user's and stays, and no temporary file is left.
+#[test]
+fn an_output_never_touches_a_file_named_like_its_temporary() {
+    let dir = std::env::temp_dir().join(format!("kansei-cli-tmp-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).expect("temp dir");
+    let json = dir.join("out.json");
+    let tmp = dir.join("out.json.tmp");
+    std::fs::write(&tmp, "mine").expect("write");
+    for _ in 0..2 {
+        run_ok(
+            kansei()
+                .args(["fit", &fixture("perfect-freehand-waves"), "--json"])
+                .arg(&json),
+        );
+    }
+    assert_eq!(std::fs::read_to_string(&tmp).expect("read"), "mine");
+    let mut names: Vec<_> = std::fs::read_dir(&dir)
+        .expect("dir")
+        .filter_map(Result::ok)
+        .map(|e| e.file_name().to_string_lossy().into_owned())
+        .collect();
+    names.sort();
+    assert_eq!(names, ["out.json", "out.json.tmp"]);
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// Old evemu recordings: a header-less `.events` file reads with its sibling `.desc` exactly as
+/// the combined recording does; without the `.desc` the error names the file it looked for.
+#[test]
+fn a_headerless_evemu_events_file_reads_with_its_sibling_description() {
+    let root = format!("{}/fixtures/evemu", env!("CARGO_MANIFEST_DIR"));
+    let combined = run_ok(kansei().args(["fit", &format!("{root}/pen-two-strokes.evemu")]));
+    let split = run_ok(kansei().args(["fit", &format!("{root}/pen-two-strokes.events")]));
+    assert_eq!(
+        String::from_utf8_lossy(&split.stdout),
+        String::from_utf8_lossy(&combined.stdout)
+    );
+    let dir = std::env::temp_dir().join(format!("kansei-cli-evemu-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).expect("temp dir");
+    // The collection's naming: NAME.DESC.events with NAME.desc.
+    let events = dir.join("Pen.two-strokes.events");
+    std::fs::copy(format!("{root}/pen-two-strokes.events"), &events).expect("copy");
+    let out = kansei().arg("fit").arg(&events).output().expect("runs");
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(1), "{err}");
+    assert!(
+        err.contains(&dir.join("Pen.desc").display().to_string())
+            && err.contains("does not exist")
+            && !err.contains("panicked"),
+        "{err}"
+    );
+    std::fs::copy(format!("{root}/pen-two-strokes.desc"), dir.join("Pen.desc")).expect("copy");
+    let out = run_ok(kansei().arg("fit").arg(&events));
+    assert_eq!(
+        String::from_utf8_lossy(&out.stdout),
+        String::from_utf8_lossy(&combined.stdout)
+    );
+    let _ = std::fs::remove_dir_all(&dir);
 }

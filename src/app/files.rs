@@ -1,5 +1,11 @@
-//! The app's files: opening any stroke format the CLI reads, saving `kansei-stroke`, exporting
-//! `kansei-curve` JSON, the quick-look SVG and a PNG, and the recovery file.
+//! The app's files: opening any stroke format the CLI reads ([`crate::io::read_strokes`]),
+//! saving `kansei-stroke`, exporting `kansei-curve` JSON, the quick-look SVG, a DXF and a PNG,
+//! and the recovery file.
+//!
+//! No write replaces an existing file unless asked to ([`Overwrite::Allowed`]): the app asks the
+//! user first ("Replace …?"), except when saving the drawing over its own stroke file. An export
+//! goes to its own path, the path field's name with the export's extension
+//! ([`export_path`]), and never replaces a `kansei-stroke` file, asked or not.
 //!
 //! The recovery file is the drawing as `kansei-stroke` JSON, rewritten atomically (a temporary
 //! file and a rename, [`write_atomic`]) after every change, so that killing the app loses no
@@ -7,10 +13,10 @@
 
 use std::path::{Path, PathBuf};
 
-use crate::cli::{CliError, read_strokes, write_atomic};
 use crate::export::{CurveFile, DxfOptions, SvgOptions, dxf_drawing, svg_document};
+use crate::io::{FileError, read_strokes, write_atomic, write_new};
 use crate::pipeline::FitOutput;
-use crate::render::{RenderOptions, Scene, View, render_png, scene_bounds};
+use crate::render::{RenderError, RenderOptions, Scene, View, render_png, scene_bounds};
 use crate::stroke::StrokeFile;
 
 /// File name of the recovery file inside its directory.
@@ -21,6 +27,142 @@ pub const PNG_MARGIN_PX: f64 = 24.0;
 
 /// Size of an exported PNG, pixels (the render module's defaults suit it).
 pub const PNG_SIZE: (u32, u32) = (1600, 1000);
+
+/// Largest file [`is_stroke_file`] reads to find out (a stroke file is rarely more than a few
+/// MB; a larger file is taken to be one, to be safe).
+const STROKE_FILE_CHECK_BYTES: u64 = 256 << 20;
+
+/// Whether a write may replace an existing file.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Overwrite {
+    /// An existing file is left as it is: the write fails with [`FileError::Exists`].
+    Never,
+    /// An existing file is replaced (the user said so).
+    Allowed,
+}
+
+/// The kinds of export.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum ExportKind {
+    /// `kansei-curve` JSON.
+    Json,
+    /// The SVG (exact lines and arcs, spirals as cubics), with the samples as a layer.
+    Svg,
+    /// DXF splines.
+    Dxf,
+    /// A PNG of the whole drawing with the canvas's overlays.
+    Png,
+}
+
+impl ExportKind {
+    /// Every kind, in the file panel's order.
+    pub const ALL: [ExportKind; 4] = [
+        ExportKind::Json,
+        ExportKind::Svg,
+        ExportKind::Dxf,
+        ExportKind::Png,
+    ];
+
+    /// The extension an export of this kind gets, without the leading dot.
+    pub fn extension(self) -> &'static str {
+        match self {
+            ExportKind::Json => "curve.json",
+            ExportKind::Svg => "svg",
+            ExportKind::Dxf => "dxf",
+            ExportKind::Png => "png",
+        }
+    }
+
+    /// The file panel's button.
+    pub fn label(self) -> &'static str {
+        match self {
+            ExportKind::Json => "Export JSON",
+            ExportKind::Svg => "Export SVG",
+            ExportKind::Dxf => "Export DXF",
+            ExportKind::Png => "Export PNG",
+        }
+    }
+}
+
+/// Why an export failed.
+#[derive(Debug, thiserror::Error)]
+pub enum ExportError {
+    /// The file could not be written (or exists: [`FileError::Exists`]).
+    #[error(transparent)]
+    File(#[from] FileError),
+    /// The export could not be produced.
+    #[error("{}: {message}", path.display())]
+    Export {
+        /// The export's file.
+        path: PathBuf,
+        /// What went wrong.
+        message: String,
+    },
+    /// The image could not be drawn.
+    #[error("{}: {source}", path.display())]
+    Render {
+        /// The image file.
+        path: PathBuf,
+        /// The cause.
+        source: RenderError,
+    },
+    /// Nothing to draw.
+    #[error("nothing to export: the drawing is empty")]
+    Empty,
+    /// The target is a `kansei-stroke` file (a drawing), which an export never replaces.
+    #[error("{}: is a stroke file (a drawing): an export never replaces one", path.display())]
+    StrokeFile {
+        /// The stroke file.
+        path: PathBuf,
+    },
+}
+
+impl ExportError {
+    /// Whether the export failed only because its file exists (then the app asks).
+    pub fn is_exists(&self) -> bool {
+        matches!(self, ExportError::File(FileError::Exists { .. }))
+    }
+}
+
+/// Where an export of `kind` goes for the path `base` (the file panel's path, usually the
+/// drawing's file): the same directory and name with the export's extension instead of the
+/// file's own (`waves.json` → `waves.svg`, `waves.curve.json`, …; `sketch.kansei-stroke.json`
+/// → `sketch.svg`). `None` when `base` names no file (empty, or a folder).
+pub fn export_path(base: &Path, kind: ExportKind) -> Option<PathBuf> {
+    if base.as_os_str().is_empty() || base.is_dir() {
+        return None;
+    }
+    let name = base.file_name()?.to_string_lossy().into_owned();
+    let lower = name.to_ascii_lowercase();
+    let stem = [".kansei-stroke.json", ".curve.json"]
+        .iter()
+        .find(|suffix| lower.ends_with(*suffix) && lower.len() > suffix.len())
+        .map(|suffix| name[..name.len() - suffix.len()].to_owned())
+        .or_else(|| {
+            Path::new(&name)
+                .file_stem()
+                .map(|s| s.to_string_lossy().into_owned())
+        })
+        .unwrap_or(name);
+    Some(base.with_file_name(format!("{stem}.{}", kind.extension())))
+}
+
+/// Whether `path` is a `kansei-stroke` file (a drawing), which no export replaces.
+pub fn is_stroke_file(path: &Path) -> bool {
+    let Ok(meta) = std::fs::metadata(path) else {
+        return false;
+    };
+    if !meta.is_file() {
+        return false;
+    }
+    if meta.len() > STROKE_FILE_CHECK_BYTES {
+        return true;
+    }
+    std::fs::read_to_string(path)
+        .ok()
+        .and_then(|text| serde_json::from_str::<serde_json::Value>(&text).ok())
+        .is_some_and(|v| v.get("format").and_then(|f| f.as_str()) == Some("kansei-stroke"))
+}
 
 /// Where the recovery file goes by default: `$XDG_STATE_HOME/kansei/`, else
 /// `~/.local/state/kansei/`; `None` when neither variable is set.
@@ -37,33 +179,49 @@ pub fn default_recovery_path() -> Option<PathBuf> {
 }
 
 /// Reads strokes from any supported file (see [`read_strokes`]).
-pub fn open(path: &Path) -> Result<StrokeFile, CliError> {
+pub fn open(path: &Path) -> Result<StrokeFile, FileError> {
     read_strokes(path)
 }
 
-/// Writes the strokes as `kansei-stroke` JSON, atomically.
-pub fn save(path: &Path, file: &StrokeFile) -> Result<(), CliError> {
-    write_atomic(path, file.to_json().as_bytes())
+/// Writes `bytes` to `path`, replacing an existing file only when `overwrite` allows.
+fn write(path: &Path, bytes: &[u8], overwrite: Overwrite) -> Result<(), FileError> {
+    match overwrite {
+        Overwrite::Never => write_new(path, bytes),
+        Overwrite::Allowed => write_atomic(path, bytes),
+    }
+}
+
+/// Writes the strokes as `kansei-stroke` JSON, atomically; an existing file is replaced only
+/// when `overwrite` allows.
+pub fn save(path: &Path, file: &StrokeFile, overwrite: Overwrite) -> Result<(), FileError> {
+    write(path, file.to_json().as_bytes(), overwrite)
 }
 
 /// Writes the recovery file; an empty drawing removes it instead (nothing to recover).
-pub fn write_recovery(path: &Path, file: &StrokeFile) -> Result<(), CliError> {
+pub fn write_recovery(path: &Path, file: &StrokeFile) -> Result<(), FileError> {
     if file.strokes.is_empty() {
         return match std::fs::remove_file(path) {
             Ok(()) => Ok(()),
             Err(e) if e.kind() == std::io::ErrorKind::NotFound => Ok(()),
-            Err(source) => Err(CliError::Io {
+            Err(source) => Err(FileError::Io {
                 path: path.to_owned(),
                 source,
             }),
         };
     }
-    save(path, file)
+    if let Some(dir) = path.parent().filter(|d| !d.as_os_str().is_empty()) {
+        // The recovery file's own directory (under $XDG_STATE_HOME) is the app's to make.
+        std::fs::create_dir_all(dir).map_err(|source| FileError::Io {
+            path: dir.to_owned(),
+            source,
+        })?;
+    }
+    save(path, file, Overwrite::Allowed)
 }
 
 /// The recovery file's drawing, if there is one with strokes. A recovery file that does not
 /// read is reported as an error (it is left in place for the user to look at).
-pub fn read_recovery(path: &Path) -> Result<Option<StrokeFile>, CliError> {
+pub fn read_recovery(path: &Path) -> Result<Option<StrokeFile>, FileError> {
     if !path.exists() {
         return Ok(None);
     }
@@ -72,53 +230,62 @@ pub fn read_recovery(path: &Path) -> Result<Option<StrokeFile>, CliError> {
 }
 
 /// Removes the recovery file (the user declined it, or the drawing was saved and the app closed).
-pub fn discard_recovery(path: &Path) -> Result<(), CliError> {
+pub fn discard_recovery(path: &Path) -> Result<(), FileError> {
     write_recovery(path, &StrokeFile::new(crate::stroke::Units::Mm, Vec::new()))
 }
 
-/// Writes the fits as `kansei-curve` JSON.
-pub fn export_json(path: &Path, output: &FitOutput) -> Result<(), CliError> {
-    write_atomic(path, CurveFile::from_output(output).to_json().as_bytes())
-}
-
-/// Writes the SVG of the fits (exact lines and arcs, spirals as cubics within the default export
-/// accuracy), with the samples as a layer.
-pub fn export_svg(path: &Path, file: &StrokeFile, output: &FitOutput) -> Result<(), CliError> {
-    let options = SvgOptions::for_units(file.units).with_layers(true, false, false, false);
-    let svg = svg_document(output, Some(file), &options);
-    write_atomic(path, svg.svg.as_bytes())
-}
-
-/// Writes the fits as DXF splines (within the default export accuracy).
-pub fn export_dxf(path: &Path, output: &FitOutput) -> Result<(), CliError> {
-    let bytes = dxf_drawing(output, &DxfOptions::default())
-        .to_bytes()
-        .map_err(|e| CliError::Export {
-            path: path.to_owned(),
-            message: e.to_string(),
-        })?;
-    write_atomic(path, &bytes)
-}
-
-/// Writes a PNG of the whole drawing with `options` (the canvas's overlays).
-pub fn export_png(
+/// The bytes of an export of `kind` (`path` only names the file in errors): the curve JSON;
+/// the SVG of the fits (exact lines and arcs, spirals as cubics within the default export
+/// accuracy) with the samples as a layer; DXF splines (within the default export accuracy); or
+/// a PNG of the whole drawing drawn with `png` (the canvas's overlays).
+pub fn export_bytes(
     path: &Path,
+    kind: ExportKind,
     file: &StrokeFile,
     output: &FitOutput,
-    options: &RenderOptions,
-) -> Result<(), CliError> {
-    let scene = Scene::new(&file.strokes, &output.curves, file.units);
-    let Some(bounds) = scene_bounds(&scene) else {
-        return Err(CliError::Usage(
-            "nothing to export: the drawing is empty".into(),
-        ));
-    };
-    let view = View::fit(bounds, PNG_SIZE.0, PNG_SIZE.1, PNG_MARGIN_PX);
-    let png = render_png(&scene, &view, options).map_err(|source| CliError::Render {
-        path: path.to_owned(),
-        source,
-    })?;
-    write_atomic(path, &png)
+    png: &RenderOptions,
+) -> Result<Vec<u8>, ExportError> {
+    match kind {
+        ExportKind::Json => Ok(CurveFile::from_output(output).to_json().into_bytes()),
+        ExportKind::Svg => {
+            let options = SvgOptions::for_units(file.units).with_layers(true, false, false, false);
+            Ok(svg_document(output, Some(file), &options).svg.into_bytes())
+        }
+        ExportKind::Dxf => dxf_drawing(output, &DxfOptions::default())
+            .to_bytes()
+            .map_err(|e| ExportError::Export {
+                path: path.to_owned(),
+                message: e.to_string(),
+            }),
+        ExportKind::Png => {
+            let scene = Scene::new(&file.strokes, &output.curves, file.units);
+            let bounds = scene_bounds(&scene).ok_or(ExportError::Empty)?;
+            let view = View::fit(bounds, PNG_SIZE.0, PNG_SIZE.1, PNG_MARGIN_PX);
+            render_png(&scene, &view, png).map_err(|source| ExportError::Render {
+                path: path.to_owned(),
+                source,
+            })
+        }
+    }
+}
+
+/// Writes an export of `kind` ([`export_bytes`]) to `path`. An existing file is replaced only
+/// when `overwrite` allows, and a `kansei-stroke` file never is ([`ExportError::StrokeFile`]).
+pub fn export(
+    path: &Path,
+    kind: ExportKind,
+    file: &StrokeFile,
+    output: &FitOutput,
+    png: &RenderOptions,
+    overwrite: Overwrite,
+) -> Result<(), ExportError> {
+    let bytes = export_bytes(path, kind, file, output, png)?;
+    if is_stroke_file(path) {
+        return Err(ExportError::StrokeFile {
+            path: path.to_owned(),
+        });
+    }
+    Ok(write(path, &bytes, overwrite)?)
 }
 
 #[cfg(test)]

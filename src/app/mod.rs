@@ -71,16 +71,16 @@ pub enum Command {
     Redo,
     /// Open a file, replacing the drawing (undoable).
     Open(PathBuf),
-    /// Save the strokes as `kansei-stroke`.
+    /// Save the strokes as `kansei-stroke` at this path: over the drawing's own stroke file
+    /// at once, over any other existing file only once the user confirms.
     Save(PathBuf),
-    /// Export the fits as `kansei-curve` JSON.
-    ExportJson(PathBuf),
-    /// Export the SVG.
-    ExportSvg(PathBuf),
-    /// Export the DXF.
-    ExportDxf(PathBuf),
-    /// Export a PNG through the render module.
-    ExportPng(PathBuf),
+    /// Export the fits to this path ([`files::export_path`] gives the file panel's): a new
+    /// file at once, an existing one only once the user confirms, a stroke file never.
+    Export(files::ExportKind, PathBuf),
+    /// Replace the file the pending save or export asks about.
+    ConfirmReplace,
+    /// Leave the file the pending save or export asks about as it is.
+    CancelReplace,
     /// Choose the file panel's path in a file chooser.
     Browse,
     /// Select a segment (or nothing).
@@ -108,6 +108,15 @@ pub struct Status {
     pub error: bool,
 }
 
+/// A save or export waiting for the user to confirm replacing an existing file.
+#[derive(Clone, Debug, PartialEq)]
+pub struct PendingReplace {
+    /// The existing file.
+    pub path: PathBuf,
+    /// What would be written: `None` for the strokes (Save), else the export.
+    pub export: Option<files::ExportKind>,
+}
+
 /// The state the panels edit that is not the document: what is shown and where files go.
 #[derive(Clone, Debug, PartialEq)]
 pub struct ViewState {
@@ -117,7 +126,8 @@ pub struct ViewState {
     pub selection: Option<Selection>,
     /// Settings for new strokes.
     pub new_stroke_settings: FitSettings,
-    /// The path in the file panel.
+    /// The path in the file panel: where Open reads and Save writes; exports go next to it
+    /// with their own extensions ([`files::export_path`]).
     pub path: String,
     /// Replay speed factor.
     pub replay_speed: f64,
@@ -159,6 +169,11 @@ pub struct KanseiApp {
     preview: Preview,
     /// The file chooser, while open.
     chooser: Option<chooser::Chooser>,
+    /// The drawing's own `kansei-stroke` file (opened or last saved), which Save replaces
+    /// without asking.
+    file_path: Option<PathBuf>,
+    /// The save or export asking whether to replace an existing file.
+    pending_replace: Option<PendingReplace>,
     /// Tablet strokes waiting for a drawing whose units they can join (see
     /// [`KanseiApp::take_tablet_strokes`]).
     tablet_pending: Vec<crate::stroke::Stroke>,
@@ -214,6 +229,8 @@ impl KanseiApp {
             },
             preview: Preview::default(),
             chooser: None,
+            file_path: None,
+            pending_replace: None,
             plots: None,
         };
         if let Some(choice) = options.tablet {
@@ -316,33 +333,33 @@ impl KanseiApp {
                 self.doc.redo();
             }
             Command::Open(path) => self.open(&path),
-            Command::Save(path) => match files::save(&path, &self.doc.to_file()) {
-                Ok(()) => {
-                    self.saved = self.doc.changes();
-                    self.set_info(format!("saved {}", path.display()));
+            Command::Save(path) => {
+                let own = self
+                    .file_path
+                    .as_deref()
+                    .is_some_and(|own| same_file(own, &path));
+                let overwrite = if own {
+                    files::Overwrite::Allowed
+                } else {
+                    files::Overwrite::Never
+                };
+                self.save(path, overwrite);
+            }
+            Command::Export(kind, path) => self.export(kind, path, files::Overwrite::Never),
+            Command::ConfirmReplace => match self.pending_replace.take() {
+                Some(PendingReplace { path, export: None }) => {
+                    self.save(path, files::Overwrite::Allowed);
                 }
-                Err(e) => self.set_error(e.to_string()),
+                Some(PendingReplace {
+                    path,
+                    export: Some(kind),
+                }) => self.export(kind, path, files::Overwrite::Allowed),
+                None => {}
             },
-            Command::ExportJson(path) => {
-                let result = files::export_json(&path, &self.output());
-                self.report_export(&path, result);
-            }
-            Command::ExportSvg(path) => {
-                let result = files::export_svg(&path, &self.doc.to_file(), &self.output());
-                self.report_export(&path, result);
-            }
-            Command::ExportDxf(path) => {
-                let result = files::export_dxf(&path, &self.output());
-                self.report_export(&path, result);
-            }
-            Command::ExportPng(path) => {
-                let result = files::export_png(
-                    &path,
-                    &self.doc.to_file(),
-                    &self.output(),
-                    &RenderOptions::with_overlays(self.view.overlays),
-                );
-                self.report_export(&path, result);
+            Command::CancelReplace => {
+                if let Some(pending) = self.pending_replace.take() {
+                    self.set_info(format!("left {} as it was", pending.path.display()));
+                }
             }
             Command::Select(selection) => self.view.selection = selection,
             Command::Browse => {
@@ -410,11 +427,61 @@ impl KanseiApp {
         scene.output(tolerance)
     }
 
-    fn report_export(&mut self, path: &Path, result: Result<(), crate::cli::CliError>) {
-        match result {
-            Ok(()) => self.set_info(format!("wrote {}", path.display())),
+    /// The save or export asking whether to replace an existing file, if any.
+    pub fn pending_replace(&self) -> Option<&PendingReplace> {
+        self.pending_replace.as_ref()
+    }
+
+    /// Saves the strokes; an existing file that may not be replaced becomes a question.
+    fn save(&mut self, path: PathBuf, overwrite: files::Overwrite) {
+        match files::save(&path, &self.doc.to_file(), overwrite) {
+            Ok(()) => {
+                self.saved = self.doc.changes();
+                self.set_info(format!("saved {}", path.display()));
+                self.file_path = Some(path);
+            }
+            Err(crate::io::FileError::Exists { .. }) => {
+                self.ask_replace(PendingReplace { path, export: None });
+            }
             Err(e) => self.set_error(e.to_string()),
         }
+    }
+
+    /// Exports; an existing file that may not be replaced becomes a question, and the drawing's
+    /// own stroke file is never the target.
+    fn export(&mut self, kind: files::ExportKind, path: PathBuf, overwrite: files::Overwrite) {
+        if self
+            .file_path
+            .as_deref()
+            .is_some_and(|own| same_file(own, &path))
+        {
+            self.set_error(format!(
+                "{}: is the drawing's stroke file: an export never replaces it",
+                path.display()
+            ));
+            return;
+        }
+        let result = files::export(
+            &path,
+            kind,
+            &self.doc.to_file(),
+            &self.output(),
+            &RenderOptions::with_overlays(self.view.overlays),
+            overwrite,
+        );
+        match result {
+            Ok(()) => self.set_info(format!("wrote {}", path.display())),
+            Err(e) if e.is_exists() => self.ask_replace(PendingReplace {
+                path,
+                export: Some(kind),
+            }),
+            Err(e) => self.set_error(e.to_string()),
+        }
+    }
+
+    fn ask_replace(&mut self, pending: PendingReplace) {
+        self.set_info(format!("{} exists: replace it?", pending.path.display()));
+        self.pending_replace = Some(pending);
     }
 
     /// Opens a file; on failure the drawing is untouched and the status says why.
@@ -428,6 +495,10 @@ impl KanseiApp {
                         self.view.selection = None;
                         self.replay = None;
                         self.saved = self.doc.changes();
+                        // A kansei-stroke file is the drawing's own: Save replaces it. A
+                        // recording is not: saving over it asks first.
+                        self.file_path =
+                            (!crate::io::is_recording(path)).then(|| path.to_path_buf());
                         self.canvas.request_fit();
                         self.set_info(format!("opened {} ({n} strokes)", path.display()));
                     }
@@ -716,6 +787,9 @@ impl KanseiApp {
                 commands.push(Command::Select(self.scene.pick(p, radius)));
             }
         });
+        if let Some(pending) = &self.pending_replace {
+            replace_question(ui.ctx(), pending, &mut commands);
+        }
         if let Some(chooser) = &mut self.chooser
             && let Some(choice) = chooser.show(ui.ctx())
         {
@@ -743,6 +817,46 @@ impl KanseiApp {
         {
             let _ = files::discard_recovery(path);
         }
+    }
+}
+
+/// The question before a save or export replaces an existing file: "Replace NAME?" with
+/// Replace and Cancel.
+fn replace_question(ctx: &egui::Context, pending: &PendingReplace, commands: &mut Vec<Command>) {
+    let name = pending.path.file_name().map_or_else(
+        || pending.path.display().to_string(),
+        |n| n.to_string_lossy().into_owned(),
+    );
+    egui::Window::new("Replace the file?")
+        .collapsible(false)
+        .resizable(false)
+        .anchor(egui::Align2::CENTER_CENTER, egui::Vec2::ZERO)
+        .show(ctx, |ui| {
+            ui.label(format!("Replace {name}?"));
+            ui.label(
+                egui::RichText::new(format!(
+                    "{} exists; replacing it loses what it holds.",
+                    pending.path.display()
+                ))
+                .small(),
+            );
+            ui.horizontal(|ui| {
+                if ui.button("Replace").clicked() {
+                    commands.push(Command::ConfirmReplace);
+                }
+                if ui.button("Cancel").clicked() {
+                    commands.push(Command::CancelReplace);
+                }
+            });
+        });
+}
+
+/// Whether `a` and `b` name the same file (the same path once resolved, or the same text when
+/// either cannot be resolved).
+fn same_file(a: &Path, b: &Path) -> bool {
+    match (std::fs::canonicalize(a), std::fs::canonicalize(b)) {
+        (Ok(a), Ok(b)) => a == b,
+        _ => a == b,
     }
 }
 

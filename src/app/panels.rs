@@ -8,6 +8,7 @@ use egui::{DragValue, RichText, ScrollArea, Ui};
 
 use super::Command;
 use super::document::{Document, FitSettings};
+use super::files::{ExportKind, export_path};
 use super::replay::{Replay, SPEED_RANGE};
 use super::scene::{SceneData, Selection};
 use super::worker::{FitState, Fits};
@@ -227,7 +228,8 @@ pub fn overlays(ui: &mut Ui, o: &mut Overlays) {
     ui.checkbox(&mut o.scale_bar, "scale bar");
 }
 
-/// A path field with open, save and export buttons.
+/// A path field with open, save and export buttons. Open and Save use the path; each export
+/// goes to its own file next to it ([`export_path`]), named in the button's hover text.
 pub fn files(ui: &mut Ui, path: &mut String, commands: &mut Vec<Command>) {
     ui.heading("File");
     ui.horizontal(|ui| {
@@ -240,21 +242,27 @@ pub fn files(ui: &mut Ui, path: &mut String, commands: &mut Vec<Command>) {
         }
         ui.add(egui::TextEdit::singleline(path).hint_text("path"));
     });
-    let target = || PathBuf::from(path.trim());
+    let target = PathBuf::from(path.trim());
     let has_path = !path.trim().is_empty();
     ui.horizontal_wrapped(|ui| {
         type Make = fn(PathBuf) -> Command;
-        let buttons: [(&str, Make); 6] = [
-            ("Open", Command::Open),
-            ("Save", Command::Save),
-            ("Export JSON", Command::ExportJson),
-            ("Export SVG", Command::ExportSvg),
-            ("Export DXF", Command::ExportDxf),
-            ("Export PNG", Command::ExportPng),
-        ];
+        let buttons: [(&str, Make); 2] = [("Open", Command::Open), ("Save", Command::Save)];
         for (label, make) in buttons {
             if ui.add_enabled(has_path, egui::Button::new(label)).clicked() {
-                commands.push(make(target()));
+                commands.push(make(target.clone()));
+            }
+        }
+        for kind in ExportKind::ALL {
+            let to = export_path(&target, kind);
+            let button = ui.add_enabled(to.is_some(), egui::Button::new(kind.label()));
+            let button = match &to {
+                Some(to) => button.on_hover_text(format!("Write {}", to.display())),
+                None => button.on_disabled_hover_text("Type a file name in the path field"),
+            };
+            if button.clicked()
+                && let Some(to) = to
+            {
+                commands.push(Command::Export(kind, to));
             }
         }
     });

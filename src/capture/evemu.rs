@@ -11,6 +11,13 @@
 //! E: 0.008000 0003 0000 10010                event: sec.usec, type and code (hex), value
 //! ```
 //!
+//! Old recordings (evemu before 1.10, and most of the evemu-devices collection) keep the device
+//! description (`N:`, `I:`, `P:`, `B:`, `A:` lines, as `evemu-describe` prints them) in a file
+//! of its own, `NAME.desc`, and the events (`E:` lines only, no header) in `NAME.events` or
+//! `NAME.DESC.events`: [`EvemuRecording::parse_description`] and
+//! [`EvemuRecording::with_events`] put such a pair together, and
+//! [`crate::io::read_strokes`] finds the `.desc` next to the events file.
+//!
 //! This module only parses the text ([`EvemuRecording::parse`]: the `A:` axis table and the
 //! `E:` events as (line, time, type, code, value)). [`read`] then feeds the events through
 //! [`EvdevPen`], the frame decoder the live evdev source uses, and the pen reports through the
@@ -63,6 +70,8 @@ use crate::stroke::{Stroke, StrokeError, StrokeFile};
 const HEADER: &str = "# EVEMU ";
 /// The format major version read: evemu 1.x (1.0 to 1.3 differ only in optional lines).
 const SUPPORTED_MAJOR: &str = "1";
+/// The format version of a description without a header (evemu's rule).
+const VERSION_WITHOUT_HEADER: &str = "1.0";
 /// Microseconds per second, for the `sec.usec` timestamps.
 const MICROS_PER_SECOND: i64 = 1_000_000;
 /// Warnings kept with their line numbers; later ones are only counted (a damaged recording
@@ -81,6 +90,13 @@ pub enum EvemuError {
     /// An evemu format version this reader does not know.
     #[error("evemu format version {0:?} is not supported (1.x is)")]
     UnsupportedVersion(String),
+    /// A device description with a line that does not parse (a description is a few dozen
+    /// lines written by `evemu-describe`: a damaged one is refused rather than guessed at).
+    #[error("device description, line {0}: the line does not parse")]
+    BadDescription(usize),
+    /// A device description with no `N:`, `I:` or `A:` line: not a description.
+    #[error("not an evemu device description: no N:, I: or A: lines")]
+    NoDescription,
     /// A stroke breaks the stroke rules (time going backwards, coordinates beyond range).
     #[error("stroke {stroke}: {source}")]
     Invalid {
@@ -200,6 +216,9 @@ pub struct EvemuRecording {
     pub events: Vec<EvemuEvent>,
     /// 1-based numbers of the lines that did not parse.
     pub garbage_lines: Vec<usize>,
+    /// The device description's file name, when it came from a file of its own
+    /// ([`EvemuRecording::with_events`]).
+    pub description: Option<String>,
 }
 
 fn parse_event(line: usize, rest: &str) -> Option<EvemuEvent> {
@@ -274,6 +293,59 @@ impl EvemuRecording {
             version: version.to_owned(),
             ..EvemuRecording::default()
         };
+        rec.parse_lines(lines);
+        Ok(rec)
+    }
+
+    /// Parses a device description as `evemu-describe` writes it (a `.desc` file): the
+    /// `# EVEMU` header is optional (evemu assumes format 1.0 without it); `E:` lines, if any,
+    /// are not kept. A line that does not parse, or no `N:`, `I:` or `A:` line at all, is an
+    /// error: the description decides the units and ranges of everything after it.
+    pub fn parse_description(text: &str) -> Result<EvemuRecording, EvemuError> {
+        let first = text.lines().map(str::trim).find(|l| !l.is_empty());
+        let mut rec = match first {
+            Some(line) if line.starts_with(HEADER) => EvemuRecording::parse(text)?,
+            _ => {
+                let mut rec = EvemuRecording {
+                    version: VERSION_WITHOUT_HEADER.to_owned(),
+                    ..EvemuRecording::default()
+                };
+                rec.parse_lines(text.lines().enumerate());
+                rec
+            }
+        };
+        if let Some(&line) = rec.garbage_lines.first() {
+            return Err(EvemuError::BadDescription(line));
+        }
+        if rec.name.is_none() && rec.ids.is_none() && rec.axes.is_empty() {
+            return Err(EvemuError::NoDescription);
+        }
+        rec.events.clear();
+        Ok(rec)
+    }
+
+    /// This description (from [`EvemuRecording::parse_description`], read from the file named
+    /// `description`) with the events of a header-less events file (`E:` lines; their line
+    /// numbers are the events file's). `N:`, `I:` and `A:` lines in the events file, if any,
+    /// override the description's.
+    pub fn with_events(
+        mut self,
+        events: &str,
+        description: &str,
+    ) -> Result<EvemuRecording, EvemuError> {
+        if events.trim().is_empty() {
+            return Err(EvemuError::Empty);
+        }
+        self.events.clear();
+        self.garbage_lines.clear();
+        self.parse_lines(events.lines().enumerate());
+        self.description = Some(description.to_owned());
+        Ok(self)
+    }
+
+    /// Parses `(index, line)` pairs (0-based indices) into the fields.
+    fn parse_lines<'a>(&mut self, lines: impl Iterator<Item = (usize, &'a str)>) {
+        let rec = self;
         for (i, line) in lines {
             let line_no = i + 1;
             // evemu-record comments every event after a '#'.
@@ -300,7 +372,6 @@ impl EvemuRecording {
                 rec.garbage_lines.push(line_no);
             }
         }
-        Ok(rec)
     }
 
     /// The pen axes as the frame decoder takes them: X and Y default to an empty range with
@@ -410,7 +481,13 @@ pub fn replay(rec: &EvemuRecording) -> Result<(StrokeFile, EvemuStats), EvemuErr
         .collect();
 
     let mut file = StrokeFile::new(axes.units(), strokes);
-    file.source = Some(format!("evemu recording (EVEMU {})", rec.version));
+    file.source = Some(match &rec.description {
+        None => format!("evemu recording (EVEMU {})", rec.version),
+        Some(desc) => format!(
+            "evemu recording (EVEMU {}, device description from {desc})",
+            rec.version
+        ),
+    });
     let axis_json = |code: u16| {
         rec.axes
             .get(&code)

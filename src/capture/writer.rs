@@ -1,8 +1,9 @@
 //! Crash-safe output of a capture.
 //!
 //! [`StrokeWriter`] keeps the strokes finished so far and, after each one, **rewrites the whole
-//! `kansei-stroke` file atomically**: the JSON goes to `<out>.tmp`, which is `fsync`ed, renamed
-//! over `<out>`, and the directory is `fsync`ed. A reader (or a crash, a Ctrl-C, an unplugged
+//! `kansei-stroke` file atomically**: the JSON goes to a temporary file of its own next to
+//! `<out>` ([`crate::io::write_durable`]), which is `fsync`ed, renamed over `<out>`, and the
+//! directory is `fsync`ed. A reader (or a crash, a Ctrl-C, an unplugged
 //! tablet, a power cut after the rename) therefore only ever sees a complete, valid file holding
 //! every stroke finished so far. Rewriting is O(strokes so far) per stroke: a sketching session
 //! of a few hundred strokes of a few hundred samples is a few MB, written once per pen lift,
@@ -36,6 +37,9 @@ pub enum WriteError {
         /// The cause.
         source: std::io::Error,
     },
+    /// The output could not be written (its directory is missing, the disk is full...).
+    #[error(transparent)]
+    File(#[from] crate::io::FileError),
     /// The strokes fail validation (a bug, or values beyond the format's limits).
     #[error("captured strokes: {0}")]
     Stroke(#[from] StrokeError),
@@ -66,33 +70,12 @@ pub fn write_special(path: &Path, bytes: &[u8]) -> Option<std::io::Result<()>> {
     )
 }
 
-/// Writes `bytes` to `path` through `<path>.tmp`, with `fsync` of the file and of its directory
-/// around the rename: after it returns, `path` holds `bytes` even across a power cut, and at no
-/// time does `path` hold a partial file. A device or FIFO is written in place ([`write_special`]).
+/// Writes `bytes` to `path` through a temporary file of its own, with `fsync` of the file and of
+/// its directory around the rename: after it returns, `path` holds `bytes` even across a power
+/// cut, and at no time does `path` hold a partial file. A device or FIFO is written in place
+/// ([`write_special`]). The directory must exist. See [`crate::io::write_durable`].
 pub fn write_durable(path: &Path, bytes: &[u8]) -> Result<(), WriteError> {
-    if let Some(done) = write_special(path, bytes) {
-        return done.map_err(io_error(path));
-    }
-    let dir = path
-        .parent()
-        .filter(|d| !d.as_os_str().is_empty())
-        .unwrap_or(Path::new("."));
-    std::fs::create_dir_all(dir).map_err(io_error(dir))?;
-    let mut tmp = path.as_os_str().to_owned();
-    tmp.push(".tmp");
-    let tmp = PathBuf::from(tmp);
-    {
-        let mut f = File::create(&tmp).map_err(io_error(&tmp))?;
-        f.write_all(bytes).map_err(io_error(&tmp))?;
-        f.sync_all().map_err(io_error(&tmp))?;
-    }
-    std::fs::rename(&tmp, path).map_err(io_error(path))?;
-    // The rename is durable once the directory is synced. Some file systems refuse to fsync a
-    // directory; the file itself is complete either way, so that failure is not reported.
-    if let Ok(d) = File::open(dir) {
-        let _ = d.sync_all();
-    }
-    Ok(())
+    Ok(crate::io::write_durable(path, bytes)?)
 }
 
 /// The `kansei-stroke` output of a capture; see the module documentation.
