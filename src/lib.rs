@@ -15,7 +15,9 @@
 //!    of the exact curves; [`render`]: raster images (PNG, the app's canvas) drawn with tiny-skia.
 //!
 //! [`pipeline`] composes the stages; [`cli`] is the command line; `app` (feature `app`) is the
-//! sketch app, `kansei app`: draw, watch the chain appear, study its curvature.
+//! sketch app, `kansei app`: draw, watch the chain appear, study its curvature; `serve` (feature
+//! `serve`) is the fitting service, `kansei serve`: an HTTP API and a pen page for any tablet in a
+//! browser.
 //!
 //! ```
 //! use kansei::pipeline::{PipelineOptions, fit_file};
@@ -45,5 +47,7 @@ pub mod lac;
 pub mod pipeline;
 pub mod prepare;
 pub mod render;
+#[cfg(feature = "serve")]
+pub mod serve;
 pub mod split;
 pub mod stroke;

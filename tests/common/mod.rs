@@ -2,6 +2,7 @@
 #![allow(dead_code)]
 
 pub mod export;
+pub mod http;
 pub mod lac;
 
 use kansei::geom::Point;
