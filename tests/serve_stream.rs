@@ -43,15 +43,26 @@ fn next(ws: &mut Socket) -> Value {
 }
 
 /// Reads until the answer to `end` (`final` or `error` with `final: true`), returning it and
-/// the previews seen on the way.
+/// the previews seen on the way. A stroke refused as it arrives (a preview found a bad sample)
+/// is reported before: that early error must say what the answer says.
 fn until_final(ws: &mut Socket) -> (Value, Vec<Value>) {
     let mut previews = Vec::new();
+    let mut early: Option<Value> = None;
     loop {
         let m = next(ws);
         match m["type"].as_str() {
             Some("preview") => previews.push(m),
-            Some("final") => return (m, previews),
-            Some("error") if m["final"] == true => return (m, previews),
+            Some("final") => {
+                assert!(early.is_none(), "{early:?} before {m}");
+                return (m, previews);
+            }
+            Some("error") if m["final"] == true => {
+                if let Some(e) = early {
+                    assert_eq!(e["error"], m["error"]);
+                }
+                return (m, previews);
+            }
+            Some("error") if early.is_none() => early = Some(m),
             _ => panic!("unexpected {m}"),
         }
     }
@@ -94,8 +105,8 @@ fn the_final_fit_of_a_streamed_stroke_equals_v1_fit() {
                 &mut ws,
                 json!({"type": "samples", "samples": samples_json(batch)}),
             );
-            // A pen's pace, roughly: time for previews to come back.
-            std::thread::sleep(Duration::from_millis(2));
+            // 5 samples per 8 ms, faster than a pen (about 200 Hz): time for previews to come back.
+            std::thread::sleep(Duration::from_millis(8));
         }
         send(&mut ws, json!({"type": "end"}));
         let (last, previews) = until_final(&mut ws);
