@@ -363,6 +363,42 @@ fn the_pen_page_fits_a_pen_stroke_like_the_api() {
         std::path::Path::new(env!("CARGO_TARGET_TMPDIR")).join("serve_browser.png"),
         &png,
     );
+
+    // A second stroke, an S with an inflection, drawn with the curvature comb on: fitted too,
+    // without a script error, and both strokes are in the drawing.
+    page.eval("document.getElementById('show-comb').click(); true");
+    let s_curve = |i: usize| {
+        let u = i as f64 / 99.0;
+        (
+            200.0 + 600.0 * u,
+            650.0 + 60.0 * (std::f64::consts::TAU * u).sin(),
+        )
+    };
+    page.pen("mousePressed", at(s_curve(0)), 0.5, (0.0, 0.0));
+    for i in 1..100 {
+        page.pen("mouseMoved", at(s_curve(i)), 0.5, (0.0, 0.0));
+    }
+    page.pen("mouseReleased", at(s_curve(99)), 0.5, (0.0, 0.0));
+    page.wait_for("window.kansei.finals >= 2");
+    page.eval("new Promise(r => requestAnimationFrame(() => requestAnimationFrame(r)))");
+    assert_eq!(page.eval("window.kansei.errors"), json!([]));
+    assert_eq!(page.eval("window.kansei.state.strokes.length"), json!(2));
+    let second: CurveFile = serde_json::from_value(page.eval("window.kansei.lastFit"))
+        .expect("the second stroke's document");
+    assert!(
+        second.curves[0]
+            .splits
+            .iter()
+            .any(|s| format!("{:?}", s.kind)
+                .to_lowercase()
+                .contains("inflection")),
+        "the S has an inflection"
+    );
+    let shot = page.call("Page.captureScreenshot", json!({"format": "png"}));
+    let _ = std::fs::write(
+        std::path::Path::new(env!("CARGO_TARGET_TMPDIR")).join("serve_browser_comb.png"),
+        base64(shot["data"].as_str().expect("screenshot data")),
+    );
 }
 
 /// Decodes standard base64 (what the DevTools protocol sends screenshots in).

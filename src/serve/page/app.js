@@ -31,6 +31,8 @@
     strokeFile: () => strokeFile(state.strokes),
   };
   window.kansei = api;
+  // Script errors too, so that a test sees them.
+  window.addEventListener("error", (e) => api.errors.push(`script: ${e.message}`));
 
   // ---------------------------------------------------------------- settings and storage --
 
