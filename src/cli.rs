@@ -39,6 +39,10 @@ pub enum Command {
     /// The sketch app: draw, see the log-aesthetic chain appear, study its curvature.
     #[cfg(feature = "app")]
     App(AppArgs),
+    /// The fitting service: an HTTP API (fit, export, stream) and a pen page for any tablet in
+    /// a browser (docs/service.md).
+    #[cfg(feature = "serve")]
+    Serve(crate::serve::ServeArgs),
 }
 
 /// `kansei app`.
@@ -392,6 +396,18 @@ pub fn run(cli: Cli, out: &mut dyn std::io::Write) -> Result<(), CliError> {
                 tablet,
             })?;
             Ok(())
+        }
+        #[cfg(feature = "serve")]
+        Command::Serve(args) => {
+            let addr = args.addr;
+            crate::serve::run(args.options().map_err(CliError::Usage)?).map_err(|e| match e {
+                crate::serve::ServeError::Options(message) => CliError::Usage(message),
+                crate::serve::ServeError::Bind { source, .. }
+                | crate::serve::ServeError::Io(source) => CliError::Io {
+                    path: addr.to_string().into(),
+                    source,
+                },
+            })
         }
     }
 }

@@ -17,7 +17,8 @@
 //! [`pipeline`] composes the stages; [`io`] reads strokes from every supported file and writes
 //! outputs atomically, never creating directories or replacing a file by accident; [`cli`] is
 //! the command line; `app` (feature `app`) is the sketch app, `kansei app`: draw, watch the
-//! chain appear, study its curvature.
+//! chain appear, study its curvature; `serve` (feature `serve`) is the fitting service,
+//! `kansei serve`: an HTTP API and a pen page for any tablet in a browser.
 //!
 //! ```
 //! use kansei::pipeline::{PipelineOptions, fit_file};
@@ -48,5 +49,7 @@ pub mod lac;
 pub mod pipeline;
 pub mod prepare;
 pub mod render;
+#[cfg(feature = "serve")]
+pub mod serve;
 pub mod split;
 pub mod stroke;

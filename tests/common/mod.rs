@@ -3,6 +3,7 @@
 
 pub mod adversarial;
 pub mod export;
+pub mod http;
 pub mod lac;
 
 use kansei::geom::Point;
