@@ -15,7 +15,7 @@ ROOT="$(dirname "$HERE")"
 SHARED="${KANSEI_SHARED_HID:-$ROOT/fixtures/hid/oracle}"
 TARGETS=("$@")
 if [ ${#TARGETS[@]} -eq 0 ]; then
-    TARGETS=(hid_descriptor hid_layout hid_report hid_recorder evemu inkml stroke_json)
+    TARGETS=(hid_descriptor hid_layout hid_report hid_recorder evemu inkml stroke_json fit_stroke)
 fi
 export RUSTC_BOOTSTRAP=1
 
@@ -24,7 +24,11 @@ head_recording() { awk -v n="$2" '/^#/ { next } /^E:/ { if (++e > n) exit } { pr
 
 seed() {
     local c="$HERE/corpus"
-    mkdir -p "$c"/{hid_descriptor,hid_layout,hid_report,hid_recorder,evemu,inkml,stroke_json}
+    mkdir -p "$c"/{hid_descriptor,hid_layout,hid_report,hid_recorder,evemu,inkml,stroke_json,fit_stroke}
+    # fit_stroke: a few byte strings of small moves (a line, a reversal, a jiggle).
+    printf "\x00\x99\x88\x99\x88\x99\x88\x77\x88\x77\x88" > "$c/fit_stroke/seed-reversal"
+    printf "\x00\x98\x89\x98\x89\x98\x89\x98" > "$c/fit_stroke/seed-jiggle"
+    printf "\x01\x99\x99\x99\x99\x9a\x98\x9a\x98\x9b\x97" > "$c/fit_stroke/seed-curve"
     local recs=("$ROOT"/fixtures/hid/*.hid)
     [ -d "$SHARED" ] && recs+=("$SHARED"/*.hid)
     local i=0

@@ -9,7 +9,7 @@ use clap::{Args, Parser, Subcommand};
 use crate::export::{CurveFile, DxfOptions, ExportOptions, SvgOptions, dxf_drawing, svg_document};
 use crate::io::{read_strokes, write_atomic};
 use crate::lac::AlphaChoice;
-use crate::pipeline::{PipelineOptions, fit_file};
+use crate::pipeline::{PipelineOptions, fit_files};
 use crate::render::{Overlays, RenderOptions};
 use crate::stroke::StrokeFile;
 
@@ -198,6 +198,9 @@ pub struct FitArgs {
     /// kansei-stroke JSON files.
     #[arg(required = true)]
     pub inputs: Vec<PathBuf>,
+    /// Threads fitting the strokes of all inputs [default: every core].
+    #[arg(long)]
+    pub jobs: Option<usize>,
     /// Write kansei-curve JSON here instead of stdout. With several inputs, a directory that
     /// receives `<input stem>.curve.json` for each.
     #[arg(long)]
@@ -663,13 +666,36 @@ fn fit(args: &FitArgs, out: &mut dyn std::io::Write) -> Result<(), CliError> {
             path.clone()
         }
     };
-    let (mut failed, mut strokes) = (0, 0);
+    if args.jobs == Some(0) {
+        return Err(CliError::Usage("--jobs must be at least 1".into()));
+    }
+    // Every input is read first; one that cannot be read is reported and the others are still
+    // fitted and written (the run then exits 1 with the first such error).
+    let mut unreadable = Vec::new();
+    let mut read = Vec::new();
     for input in &args.inputs {
-        let file = read_strokes(input)?;
-        let output = fit_file(&file, &options).map_err(|source| CliError::Pipeline {
-            path: input.clone(),
+        match read_strokes(input) {
+            Ok(file) => read.push((input, file)),
+            Err(e) => {
+                eprintln!("error: {e}");
+                unreadable.push(e);
+            }
+        }
+    }
+    // All strokes of all files share one queue over every core (or --jobs threads).
+    let threads = args.jobs.unwrap_or_else(|| {
+        std::thread::available_parallelism().map_or(1, std::num::NonZeroUsize::get)
+    });
+    let files: Vec<&StrokeFile> = read.iter().map(|(_, f)| f).collect();
+    let outputs = fit_files(&files, &options, threads, &progress_reporter()).map_err(|source| {
+        CliError::Pipeline {
+            path: args.inputs.first().cloned().unwrap_or_default(),
             source,
-        })?;
+        }
+    })?;
+    let (mut failed, mut strokes) = (0, 0);
+    for ((input, file), output) in read.iter().zip(outputs) {
+        let (input, file) = (*input, file);
         for f in &output.failures {
             eprintln!("error: {}: {}", input.display(), f.message);
         }
@@ -717,7 +743,7 @@ fn fit(args: &FitArgs, out: &mut dyn std::io::Write) -> Result<(), CliError> {
                 layer("alpha"),
                 layer("splits"),
             );
-            let svg = svg_document(&output, Some(&file), &options);
+            let svg = svg_document(&output, Some(file), &options);
             let path = target(input, path, "svg");
             warn_beyond_accuracy(&path, svg.max_error(), svg.accuracy);
             write_atomic(&path, svg.svg.as_bytes())?;
@@ -742,7 +768,7 @@ fn fit(args: &FitArgs, out: &mut dyn std::io::Write) -> Result<(), CliError> {
                     .as_deref()
                     .map_or_else(Overlays::default, png_overlays),
             );
-            let png = quick_look_png(&file, &output, args.size, &options).map_err(|source| {
+            let png = quick_look_png(file, &output, args.size, &options).map_err(|source| {
                 CliError::Render {
                     path: target.clone(),
                     source,
@@ -767,10 +793,32 @@ fn fit(args: &FitArgs, out: &mut dyn std::io::Write) -> Result<(), CliError> {
             }
         }
     }
+    if let Some(first) = unreadable.into_iter().next() {
+        return Err(first.into());
+    }
     if failed > 0 {
         return Err(CliError::StrokesFailed { failed, strokes });
     }
     Ok(())
+}
+
+/// Strokes a batch must have before its progress is shown.
+const PROGRESS_MIN_STROKES: usize = 200;
+
+/// `fit`'s progress on stderr, `fitted N/M strokes` on one line rewritten about every percent, when
+/// stderr is a terminal and the batch is long; nothing otherwise.
+fn progress_reporter() -> impl Fn(usize, usize) + Sync {
+    use std::io::IsTerminal;
+    let terminal = std::io::stderr().is_terminal();
+    move |done: usize, total: usize| {
+        if !terminal || total < PROGRESS_MIN_STROKES {
+            return;
+        }
+        if done.is_multiple_of((total / 100).max(1)) || done == total {
+            let end = if done == total { "\n" } else { "" };
+            eprint!("\rfitted {done}/{total} strokes{end}");
+        }
+    }
 }
 
 /// Margin around the scene in `kansei fit --png`, pixels: room for the scale bar below and the

@@ -9,7 +9,7 @@
 
 use crate::bspline::{BSplineFit, FitError, FitOptions, SegmentSearch, fit_bspline};
 use crate::chain::{Chain, ChainError, ChainInput, ChainOptions, fit_chain};
-use crate::prepare::{CornerOptions, DwellOptions, PieceEnd, prepare};
+use crate::prepare::{CornerOptions, DwellOptions, Piece, PieceEnd, prepare};
 use crate::split::{Spans, SplitError, SplitKind, SplitOptions, split_spans};
 use crate::stroke::{Stroke, StrokeFile, Units};
 
@@ -320,69 +320,124 @@ pub fn fit_stroke(
     } else {
         DwellOptions::for_tolerance(tolerance)
     };
-    let pieces = prepare(stroke, &options.corner_options(tolerance), &dwell);
-    pieces
-        .iter()
-        .map(|piece| {
-            let (first, last) = piece.samples;
-            // A corner is shared: both pieces pass exactly through the corner sample (G0).
-            let at_corner = |end: PieceEnd, p: Option<&crate::geom::Point>| {
-                p.copied().filter(|_| end == PieceEnd::Corner)
-            };
-            let fit_options = fit_options.with_ends(
-                at_corner(piece.start, piece.points.first()),
-                at_corner(piece.end, piece.points.last()),
-            );
-            let bspline =
-                fit_bspline(&piece.points, &fit_options).map_err(|source| PipelineError::Fit {
-                    stroke: index,
-                    first,
-                    last,
-                    source,
-                })?;
-            let split = options.split.with_tolerance(tolerance);
-            let mut spans = split_spans(&bspline.curve.to_beziers(), &split).map_err(|source| {
-                PipelineError::Split {
-                    stroke: index,
-                    first,
-                    last,
-                    source,
-                }
-            })?;
-            mark_corners(&mut spans, piece.start, piece.end);
-            let chain = if options.lac {
-                let input = ChainInput {
-                    points: &piece.points,
-                    params: &bspline.params,
-                    indices: &piece.indices,
-                    samples: piece.samples,
-                    curve: &bspline.curve,
-                    spans: &spans,
-                };
-                let chain = fit_chain(&input, tolerance, &options.chain).map_err(|source| {
-                    PipelineError::Chain {
-                        stroke: index,
-                        first,
-                        last,
-                        source,
-                    }
-                })?;
-                Some(chain)
-            } else {
-                None
-            };
-            Ok(CurveFit {
+    let mut pending: Vec<Piece> = prepare(stroke, &options.corner_options(tolerance), &dwell);
+    pending.reverse();
+    let mut curves = Vec::with_capacity(pending.len());
+    while let Some(piece) = pending.pop() {
+        match fit_piece(&piece, index, tolerance, options, &fit_options) {
+            Ok(curve) => curves.push(curve),
+            // The piece's B-spline has a cusp: the stroke folds back within the corner detection's
+            // reach (a reversal with legs no longer than the tolerance, seen on quarter-pixel
+            // grids). The fold is a corner the samples show: cut at the sharpest vertex and fit
+            // both sides, as the corner detection would have.
+            Err(PipelineError::Split {
+                source: SplitError::Singular { .. },
+                ..
+            }) if piece.points.len() >= 3 => {
+                let (a, b) = cut_at_sharpest(&piece);
+                pending.push(b);
+                pending.push(a);
+            }
+            Err(e) => return Err(e),
+        }
+    }
+    Ok(curves)
+}
+
+/// The piece cut at its sharpest interior vertex (the largest turning angle of its polyline)
+/// into two pieces meeting there at a corner.
+fn cut_at_sharpest(piece: &Piece) -> (Piece, Piece) {
+    let p = &piece.points;
+    let turning = |i: usize| {
+        let (u, v) = (p[i] - p[i - 1], p[i + 1] - p[i]);
+        u.cross(v).atan2(u.dot(v)).abs()
+    };
+    let k = (1..p.len() - 1)
+        .max_by(|&i, &j| turning(i).total_cmp(&turning(j)))
+        .unwrap_or(p.len() / 2);
+    let corner = piece.indices[k];
+    let a = Piece {
+        points: p[..=k].to_vec(),
+        indices: piece.indices[..=k].to_vec(),
+        samples: (piece.samples.0, corner),
+        start: piece.start,
+        end: PieceEnd::Corner,
+    };
+    let b = Piece {
+        points: p[k..].to_vec(),
+        indices: piece.indices[k..].to_vec(),
+        samples: (corner, piece.samples.1),
+        start: PieceEnd::Corner,
+        end: piece.end,
+    };
+    (a, b)
+}
+
+/// Fits one piece: B-spline, split, chain.
+fn fit_piece(
+    piece: &Piece,
+    index: usize,
+    tolerance: f64,
+    options: &PipelineOptions,
+    fit_options: &FitOptions,
+) -> Result<CurveFit, PipelineError> {
+    let (first, last) = piece.samples;
+    // A corner is shared: both pieces pass exactly through the corner sample (G0).
+    let at_corner = |end: PieceEnd, p: Option<&crate::geom::Point>| {
+        p.copied().filter(|_| end == PieceEnd::Corner)
+    };
+    let fit_options = fit_options.with_ends(
+        at_corner(piece.start, piece.points.first()),
+        at_corner(piece.end, piece.points.last()),
+    );
+    let bspline =
+        fit_bspline(&piece.points, &fit_options).map_err(|source| PipelineError::Fit {
+            stroke: index,
+            first,
+            last,
+            source,
+        })?;
+    let split = options.split.with_tolerance(tolerance);
+    let mut spans = split_spans(&bspline.curve.to_beziers(), &split).map_err(|source| {
+        PipelineError::Split {
+            stroke: index,
+            first,
+            last,
+            source,
+        }
+    })?;
+    mark_corners(&mut spans, piece.start, piece.end);
+    let chain = if options.lac {
+        let input = ChainInput {
+            points: &piece.points,
+            params: &bspline.params,
+            indices: &piece.indices,
+            samples: piece.samples,
+            curve: &bspline.curve,
+            spans: &spans,
+        };
+        let chain = fit_chain(&input, tolerance, &options.chain).map_err(|source| {
+            PipelineError::Chain {
                 stroke: index,
-                samples: piece.samples,
-                bspline,
-                spans,
-                points: piece.points.clone(),
-                indices: piece.indices.clone(),
-                chain,
-                tolerance,
-            })
-        })
-        .collect()
+                first,
+                last,
+                source,
+            }
+        })?;
+        Some(chain)
+    } else {
+        None
+    };
+    Ok(CurveFit {
+        stroke: index,
+        samples: piece.samples,
+        bspline,
+        spans,
+        points: piece.points.clone(),
+        indices: piece.indices.clone(),
+        chain,
+        tolerance,
+    })
 }
 
 /// Relabels a piece's first/last split as `corner` where it meets a neighbour at a corner.
@@ -403,6 +458,71 @@ fn mark_corners(spans: &mut Spans, start: PieceEnd, end: PieceEnd) {
             s.end = SplitKind::Corner;
         }
     }
+}
+
+/// Fits every stroke of every file on up to `threads` threads (each takes the next stroke from a
+/// shared queue, so long and short strokes balance), and returns one output per file, in order,
+/// each exactly what [`fit_file`] gives: the strokes are independent and their outcomes are put
+/// back in stroke order. `progress(done, total)` is called after each stroke, from the threads.
+pub fn fit_files(
+    files: &[&StrokeFile],
+    options: &PipelineOptions,
+    threads: usize,
+    progress: &(dyn Fn(usize, usize) + Sync),
+) -> Result<Vec<FitOutput>, PipelineError> {
+    use std::sync::Mutex;
+    use std::sync::atomic::{AtomicUsize, Ordering};
+    for file in files {
+        let tolerance = options.tolerance_for(file.units);
+        if !(tolerance.is_finite() && tolerance > 0.0) {
+            return Err(PipelineError::BadTolerance(tolerance));
+        }
+    }
+    let jobs: Vec<(usize, usize)> = files
+        .iter()
+        .enumerate()
+        .flat_map(|(f, file)| (0..file.strokes.len()).map(move |s| (f, s)))
+        .collect();
+    let slots: Vec<Mutex<Option<StrokeOutcome>>> = jobs.iter().map(|_| Mutex::new(None)).collect();
+    let (next, done) = (AtomicUsize::new(0), AtomicUsize::new(0));
+    let workers = threads.clamp(1, jobs.len().max(1));
+    std::thread::scope(|scope| {
+        for _ in 0..workers {
+            scope.spawn(|| {
+                loop {
+                    let i = next.fetch_add(1, Ordering::Relaxed);
+                    let Some(&(f, s)) = jobs.get(i) else {
+                        break;
+                    };
+                    let file = files[f];
+                    let tolerance = options.tolerance_for(file.units);
+                    let outcome = fit_one(&file.strokes[s], s, tolerance, options);
+                    // fit_one contains panics, so no lock is ever poisoned; take it either way.
+                    *slots[i].lock().unwrap_or_else(|e| e.into_inner()) = Some(outcome);
+                    progress(done.fetch_add(1, Ordering::Relaxed) + 1, jobs.len());
+                }
+            });
+        }
+    });
+    let mut outputs: Vec<FitOutput> = files
+        .iter()
+        .map(|file| {
+            FitOutput::with_curves(file.units, options.tolerance_for(file.units), Vec::new())
+        })
+        .collect();
+    for ((f, s), slot) in jobs.iter().zip(slots) {
+        let outcome = slot.into_inner().unwrap_or_else(|e| e.into_inner());
+        // Every job was taken by a worker and filled before the scope ended.
+        let outcome = outcome.unwrap_or_else(|| {
+            StrokeOutcome::Failed(StrokeFailure {
+                stroke: *s,
+                kind: FailureKind::Fit,
+                message: format!("stroke {s}: not fitted"),
+            })
+        });
+        outputs[*f].push(outcome);
+    }
+    Ok(outputs)
 }
 
 /// Runs the pipeline on every stroke of a file ([`fit_one`] each): every stroke is accounted

@@ -608,3 +608,59 @@ fn a_headerless_evemu_events_file_reads_with_its_sibling_description() {
     );
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// A batch is fitted on every core, and what it writes does not depend on how many: one file per
+/// line in input order, the same bytes with one thread and with four.
+#[test]
+fn a_parallel_batch_writes_what_one_thread_writes_in_input_order() {
+    let inputs: Vec<String> = [
+        "perfect-freehand-waves",
+        "google-ink-spring",
+        "libmypaint-painting30sec",
+        "wacom-intuos-pro-ccw-circle",
+    ]
+    .iter()
+    .map(|n| fixture(n))
+    .collect();
+    let run = |jobs: &str| {
+        let out = kansei()
+            .arg("fit")
+            .args(&inputs)
+            .args(["--jobs", jobs])
+            .output()
+            .expect("runs");
+        assert!(
+            out.status.success(),
+            "{}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+        out.stdout
+    };
+    let one = run("1");
+    assert_eq!(one, run("4"));
+    let lines: Vec<&[u8]> = one
+        .split(|&b| b == b'\n')
+        .filter(|l| !l.is_empty())
+        .collect();
+    assert_eq!(lines.len(), inputs.len());
+    let strokes: Vec<usize> = lines
+        .iter()
+        .map(|l| {
+            let doc =
+                kansei::export::CurveFile::from_json(&String::from_utf8_lossy(l)).expect("doc");
+            doc.curves.iter().map(|c| c.stroke).max().unwrap_or(0) + 1
+        })
+        .collect();
+    assert_eq!(
+        strokes,
+        [1, 1, 30, 1],
+        "each line is its input's document, in order"
+    );
+    let out = kansei()
+        .arg("fit")
+        .arg(&inputs[0])
+        .args(["--jobs", "0"])
+        .output()
+        .expect("runs");
+    assert_eq!(out.status.code(), Some(2));
+}

@@ -16,6 +16,10 @@ use kansei::stroke::StrokeFile;
 /// The grid search finds the nearest point to ~1e-11 of a grid step; the fitter measures with
 /// its own Newton/ITP projection. Both round at ~1e-12 of the tolerance-sized distances.
 const MEASURE_SLACK: f64 = 1e-6;
+/// A chain that misses the tolerance reports its distance as measured on a trace of its
+/// segments with a chord error of 1e-3 of the tolerance (the fitter's own, `chain::fit`): the
+/// report may fall short of the exact distance by that much.
+const REPORT_CHORD_FRACTION: f64 = 1e-3;
 
 /// Checks one fitted file; returns (pieces, segments, dots).
 fn check(name: &str, file: &StrokeFile, out: &FitOutput) -> (usize, usize, usize) {
@@ -102,7 +106,7 @@ fn check(name: &str, file: &StrokeFile, out: &FitOutput) -> (usize, usize, usize
         } else {
             // Honest when it says it is not: the reported figure is at least the true one.
             assert!(
-                chain.max_deviation >= worst * (1.0 - MEASURE_SLACK),
+                chain.max_deviation >= worst * (1.0 - MEASURE_SLACK) - REPORT_CHORD_FRACTION * tol,
                 "{here}: reported {} < measured {worst}",
                 chain.max_deviation
             );
@@ -111,13 +115,43 @@ fn check(name: &str, file: &StrokeFile, out: &FitOutput) -> (usize, usize, usize
     (out.curves.len(), segments, out.dots.len())
 }
 
+/// The recorded fixtures (`fixtures/strokes/`) and the synthetic ones (`fixtures/synthetic/`).
+fn all_fixtures() -> Vec<(String, StrokeFile)> {
+    let mut out: Vec<(String, StrokeFile)> = common::fixture_names()
+        .into_iter()
+        .map(|n| {
+            let f = common::fixture(&n);
+            (n, f)
+        })
+        .collect();
+    let dir = format!("{}/fixtures/synthetic", env!("CARGO_MANIFEST_DIR"));
+    let mut synthetic: Vec<_> = std::fs::read_dir(&dir)
+        .unwrap_or_else(|e| panic!("{dir}: {e}"))
+        .filter_map(|e| e.ok().map(|e| e.path()))
+        .filter(|p| p.extension().is_some_and(|x| x == "json"))
+        .collect();
+    synthetic.sort();
+    assert_eq!(synthetic.len(), 4, "the four synthetic fixtures");
+    for path in synthetic {
+        let text = std::fs::read_to_string(&path).unwrap_or_else(|e| panic!("{path:?}: {e}"));
+        let file = StrokeFile::from_json(&text).unwrap_or_else(|e| panic!("{path:?}: {e}"));
+        out.push((path.to_string_lossy().into_owned(), file));
+    }
+    out
+}
+
 #[test]
 fn every_fixture_file_fits_whole_with_every_stroke_accounted_for() {
     let mut totals = (0, 0, 0, 0);
-    for name in common::fixture_names() {
-        let file = common::fixture(&name);
+    let mut misses = 0;
+    for (name, file) in all_fixtures() {
         let out = fit_file(&file, &PipelineOptions::default()).expect("options are valid");
         let (pieces, segments, dots) = check(&name, &file, &out);
+        misses += out
+            .curves
+            .iter()
+            .filter(|c| c.chain.as_ref().is_some_and(|c| !c.within_tolerance))
+            .count();
         eprintln!(
             "{name}: {} strokes, {pieces} pieces, {segments} segments, {dots} dots",
             file.strokes.len()
@@ -128,8 +162,10 @@ fn every_fixture_file_fits_whole_with_every_stroke_accounted_for() {
         totals.3 += dots;
     }
     eprintln!(
-        "all fixtures: {} strokes, {} pieces, {} segments, {} dots",
+        "all fixtures: {} strokes, {} pieces, {} segments, {} dots, {misses} pieces reported \
+         outside the tolerance",
         totals.0, totals.1, totals.2, totals.3
     );
-    assert!(totals.0 >= 38, "only {} fixture strokes", totals.0);
+    assert!(totals.0 >= 38 + 48, "only {} fixture strokes", totals.0);
+    assert!(totals.3 > 0, "the taps fixture gives dots");
 }

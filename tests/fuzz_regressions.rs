@@ -1,5 +1,6 @@
 //! Inputs the fuzz targets of `fuzz/` found, replayed through the same entry points: each
-//! must return (Ok or Err), never panic. Every file of `fixtures/fuzz/` is named
+//! must return (Ok or Err), never panic; `fit_stroke`'s must also keep the pipeline's guarantee
+//! (no failure but an input error, the fit checked as the fuzz target checks it). Every file of `fixtures/fuzz/` is named
 //! `<target>-<short-name>` and has a `<file>.note` line saying what it broke; the walk below
 //! runs all of them, so a newly saved crash is covered without a new test.
 
@@ -11,8 +12,11 @@ use kansei::capture::recorder::Recording;
 use kansei::capture::replay::{recording_to_strokes, replay_text};
 use kansei::stroke::StrokeFile;
 
+mod common;
+use common::adversarial;
+
 /// The fuzz targets, by the prefix of their saved inputs.
-const TARGETS: [&str; 7] = [
+const TARGETS: [&str; 8] = [
     "hid_descriptor",
     "hid_layout",
     "hid_report",
@@ -20,6 +24,7 @@ const TARGETS: [&str; 7] = [
     "evemu",
     "inkml",
     "stroke_json",
+    "fit_stroke",
 ];
 
 fn fuzz_dir() -> PathBuf {
@@ -74,7 +79,32 @@ fn run(target: &str, data: &[u8]) {
                 drop(file.to_json());
             }
         }
+        "fit_stroke" => fit_stroke(data),
         other => panic!("no fuzz target {other:?}"),
+    }
+}
+
+/// `fit_stroke`: the stroke the bytes decode to through the whole pipeline; panics on a failure
+/// other than an input error, a dot beyond the tolerance, or a broken guarantee.
+fn fit_stroke(data: &[u8]) {
+    use kansei::pipeline::{FailureKind, PipelineOptions, StrokeOutcome, fit_one};
+    let Some((stroke, tolerance)) = adversarial::stroke_from_bytes(data) else {
+        return;
+    };
+    let options = PipelineOptions::default().with_tolerance(tolerance);
+    match fit_one(&stroke, 0, tolerance, &options) {
+        StrokeOutcome::Dot(dot) => assert!(dot.max_deviation <= tolerance),
+        StrokeOutcome::Failed(f) => assert_eq!(f.kind, FailureKind::Input, "{}", f.message),
+        StrokeOutcome::Curves(curves) => {
+            let case = adversarial::Case {
+                name: "fuzz".into(),
+                stroke,
+                units: kansei::stroke::Units::Px,
+                tolerance,
+            };
+            let breaks = adversarial::check(&case, &Ok(curves));
+            assert!(breaks.ok(), "{breaks:?}");
+        }
     }
 }
 

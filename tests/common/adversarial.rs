@@ -423,3 +423,26 @@ pub fn check(case: &Case, result: &Result<Vec<CurveFit>, PipelineError>) -> Brea
     }
     breaks
 }
+
+/// Most samples a stroke decoded by [`stroke_from_bytes`] has: the classes that broke the
+/// pipeline were 20–45 samples.
+pub const MAX_FUZZ_SAMPLES: usize = 96;
+
+/// The `fit_stroke` fuzz target's decoding of bytes into a stroke and a tolerance (px units).
+/// Byte 0 picks the grid (1 px, 1/4 px, or 0.005: device-like steps) and the tolerance (0.5,
+/// 0.25, 1, 0.1); each following byte pair is a move of −8..7 grid steps per axis, from
+/// (400, 300), so repeats, reversals, zigzags and collinear runs all come out of small moves.
+/// `None` for empty input.
+pub fn stroke_from_bytes(data: &[u8]) -> Option<(Stroke, f64)> {
+    let (&head, moves) = data.split_first()?;
+    let grid = [1.0, 0.25, 0.005][usize::from(head % 3)];
+    let tolerance = [0.5, 0.25, 1.0, 0.1][usize::from((head / 3) % 4)];
+    let mut p = Point::new(400.0, 300.0);
+    let mut points = vec![p];
+    for pair in moves.chunks_exact(2).take(MAX_FUZZ_SAMPLES - 1) {
+        let step = |b: u8| f64::from(i16::from(b & 0x0f) - 8) * grid;
+        p = Point::new(p.x + step(pair[0]), p.y + step(pair[1]));
+        points.push(p);
+    }
+    Some((Stroke::from_points(points), tolerance))
+}
