@@ -326,14 +326,19 @@ pub fn fit_stroke(
     while let Some(piece) = pending.pop() {
         match fit_piece(&piece, index, tolerance, options, &fit_options) {
             Ok(curve) => curves.push(curve),
-            // The piece's B-spline has a cusp: the stroke folds back within the corner detection's
-            // reach (a reversal with legs no longer than the tolerance, seen on quarter-pixel
-            // grids). The fold is a corner the samples show: cut at the sharpest vertex and fit
-            // both sides, as the corner detection would have.
-            Err(PipelineError::Split {
-                source: SplitError::Singular { .. },
-                ..
-            }) if piece.points.len() >= 3 => {
+            // The piece's B-spline has a cusp, or so nearly one that no segment's curvature is
+            // finite there: the stroke folds back within the corner detection's reach (a
+            // reversal with legs no longer than the tolerance, seen on quarter-pixel grids). The
+            // fold is a corner the samples show: cut at the sharpest vertex and fit both sides,
+            // as the corner detection would have. Each cut leaves fewer points per piece, so this
+            // ends (two points make a straight line).
+            Err(
+                PipelineError::Split {
+                    source: SplitError::Singular { .. },
+                    ..
+                }
+                | PipelineError::Chain { .. },
+            ) if piece.points.len() >= 3 => {
                 let (a, b) = cut_at_sharpest(&piece);
                 pending.push(b);
                 pending.push(a);
