@@ -325,6 +325,17 @@ pub fn fit_stroke(
     let mut curves = Vec::with_capacity(pending.len());
     while let Some(piece) = pending.pop() {
         match fit_piece(&piece, index, tolerance, options, &fit_options) {
+            // Fewer than four distinct points are fitted by a straight line (too few for a
+            // cubic): where the line misses a sample by more than the tolerance, the samples turn
+            // at a vertex the data show and the two sides are lines that hold every sample.
+            Ok(curve)
+                if !curve.bspline.within_tolerance
+                    && (3..MIN_CURVE_POINTS).contains(&piece.points.len()) =>
+            {
+                let (a, b) = cut_at_sharpest(&piece);
+                pending.push(b);
+                pending.push(a);
+            }
             Ok(curve) => curves.push(curve),
             // The piece's B-spline has a cusp, or so nearly one that no segment's curvature is
             // finite there: the stroke folds back within the corner detection's reach (a
@@ -348,6 +359,10 @@ pub fn fit_stroke(
     }
     Ok(curves)
 }
+
+/// Fewest distinct points a piece needs for a curve: fewer are fitted by a straight line
+/// ([`fit_bspline`]).
+const MIN_CURVE_POINTS: usize = 4;
 
 /// The piece cut at its sharpest interior vertex (the largest turning angle of its polyline)
 /// into two pieces meeting there at a corner.
