@@ -136,7 +136,7 @@ pub struct FitSettings {
     #[arg(long, allow_negative_numbers = true, conflicts_with = "alpha_range")]
     pub alpha: Option<f64>,
     /// Search α in MIN:MAX [default: -3:3].
-    #[arg(long, value_parser = parse_alpha_range, allow_hyphen_values = true)]
+    #[arg(long, value_parser = crate::lac::parse_alpha_range, allow_hyphen_values = true)]
     pub alpha_range: Option<(f64, f64)>,
 }
 
@@ -158,20 +158,6 @@ fn parse_corner_angle(text: &str) -> Result<f64, String> {
         Err(format!(
             "the corner angle is in degrees from 0 to 180, got {angle}"
         ))
-    }
-}
-
-/// Parses `MIN:MAX` into a finite, non-empty interval.
-fn parse_alpha_range(text: &str) -> Result<(f64, f64), String> {
-    let (a, b) = text
-        .split_once(':')
-        .ok_or_else(|| format!("expected MIN:MAX, got {text:?}"))?;
-    let parse = |x: &str| x.trim().parse::<f64>().map_err(|e| format!("{x:?}: {e}"));
-    let (min, max) = (parse(a)?, parse(b)?);
-    if min.is_finite() && max.is_finite() && min <= max {
-        Ok((min, max))
-    } else {
-        Err(format!("{text:?} is not a finite interval with MIN <= MAX"))
     }
 }
 
@@ -230,7 +216,7 @@ pub struct FitArgs {
     /// The PNG's overlays, comma-separated, drawn instead of the default set (samples, bspline,
     /// splits, segments, legend, scale-bar): any of samples, bspline, control-polygon, splits,
     /// segments, comb, legend, scale-bar.
-    #[arg(long, value_delimiter = ',', value_parser = PNG_LAYERS)]
+    #[arg(long, value_delimiter = ',', value_parser = crate::render::OVERLAY_NAMES)]
     pub png_layers: Option<Vec<String>>,
     /// Size of the PNG, WIDTHxHEIGHT pixels.
     #[arg(long, value_parser = parse_size, default_value = "1600x1000")]
@@ -732,17 +718,11 @@ fn fit(args: &FitArgs, out: &mut dyn std::io::Write) -> Result<(), CliError> {
             }
         }
         if let Some(path) = &args.svg {
-            let layer = |name: &str| args.svg_layers.iter().any(|l| l == name);
             let options = SvgOptions {
                 accuracy: args.export_accuracy,
                 ..SvgOptions::for_units(file.units)
             }
-            .with_layers(
-                layer("samples"),
-                layer("bspline"),
-                layer("alpha"),
-                layer("splits"),
-            );
+            .with_layer_names(&args.svg_layers);
             let svg = svg_document(&output, Some(file), &options);
             let path = target(input, path, "svg");
             warn_beyond_accuracy(&path, svg.max_error(), svg.accuracy);
@@ -766,14 +746,14 @@ fn fit(args: &FitArgs, out: &mut dyn std::io::Write) -> Result<(), CliError> {
             let options = RenderOptions::with_overlays(
                 args.png_layers
                     .as_deref()
-                    .map_or_else(Overlays::default, png_overlays),
+                    .map_or_else(Overlays::default, Overlays::named),
             );
-            let png = quick_look_png(file, &output, args.size, &options).map_err(|source| {
-                CliError::Render {
+            let png = crate::render::quick_look_png(file, &output, args.size, &options).map_err(
+                |source| CliError::Render {
                     path: target.clone(),
                     source,
-                }
-            })?;
+                },
+            )?;
             write_atomic(&target, &png)?;
         }
         match &args.json {
@@ -819,53 +799,6 @@ fn progress_reporter() -> impl Fn(usize, usize) + Sync {
             eprint!("\rfitted {done}/{total} strokes{end}");
         }
     }
-}
-
-/// Margin around the scene in `kansei fit --png`, pixels: room for the scale bar below and the
-/// split markers at the edges.
-pub const PNG_MARGIN_PX: f64 = 48.0;
-
-/// The names `kansei fit --png-layers` accepts, each an [`Overlays`] field.
-pub const PNG_LAYERS: [&str; 8] = [
-    "samples",
-    "bspline",
-    "control-polygon",
-    "splits",
-    "segments",
-    "comb",
-    "legend",
-    "scale-bar",
-];
-
-/// The overlays named in `layers` (names of [`PNG_LAYERS`]; others are ignored), the rest off.
-pub fn png_overlays(layers: &[String]) -> Overlays {
-    let on = |name: &str| layers.iter().any(|l| l == name);
-    Overlays {
-        samples: on("samples"),
-        bspline: on("bspline"),
-        control_polygon: on("control-polygon"),
-        splits: on("splits"),
-        segments: on("segments"),
-        comb: on("comb"),
-        legend: on("legend"),
-        scale_bar: on("scale-bar"),
-    }
-}
-
-/// The PNG of a fitted file as `kansei fit --png` writes it: the whole scene in view
-/// ([`View::fit`](crate::render::View::fit) with a margin of [`PNG_MARGIN_PX`]), drawn with
-/// `options`.
-pub fn quick_look_png(
-    file: &StrokeFile,
-    output: &crate::pipeline::FitOutput,
-    (width, height): (u32, u32),
-    options: &RenderOptions,
-) -> Result<Vec<u8>, crate::render::RenderError> {
-    use crate::render::{Scene, View, render_png, scene_bounds};
-    let scene = Scene::new(&file.strokes, &output.curves, file.units);
-    let bounds = scene_bounds(&scene).unwrap_or_default();
-    let view = View::fit(bounds, width, height, PNG_MARGIN_PX);
-    render_png(&scene, &view, options)
 }
 
 /// Says on stderr when an export's measured error exceeds the accuracy asked for (a segment

@@ -908,7 +908,7 @@ fn non_finite_samples_are_skipped() {
 /// enough that the fixtures' strokes are several pixels apart, small enough for eight renders.
 const FIXTURE_PNG_SIZE: (u32, u32) = (800, 500);
 
-/// The view `kansei fit --png` draws in (`kansei::cli::quick_look_png`): the whole scene, with
+/// The view `kansei fit --png` draws in (`kansei::render::quick_look_png`): the whole scene, with
 /// the CLI's margin.
 fn cli_view(file: &StrokeFile, out: &FitOutput, (w, h): (u32, u32)) -> View {
     let scene = Scene::new(&file.strokes, &out.curves, file.units);
@@ -916,7 +916,7 @@ fn cli_view(file: &StrokeFile, out: &FitOutput, (w, h): (u32, u32)) -> View {
         scene_bounds(&scene).expect("a non-empty scene"),
         w,
         h,
-        kansei::cli::PNG_MARGIN_PX,
+        kansei::render::QUICK_LOOK_MARGIN_PX,
     )
 }
 
@@ -932,7 +932,7 @@ fn every_fixture_png_through_the_cli_path_lies_on_its_chain() {
     for name in common::fixture_names() {
         let file = common::fixture(&name);
         let out = fitted(&file);
-        let bytes = kansei::cli::quick_look_png(&file, &out, FIXTURE_PNG_SIZE, &options)
+        let bytes = kansei::render::quick_look_png(&file, &out, FIXTURE_PNG_SIZE, &options)
             .unwrap_or_else(|e| panic!("{name}: {e}"));
         assert!(bytes.starts_with(b"\x89PNG\r\n\x1a\n"), "{name}: not a PNG");
         let pixmap = Pixmap::decode_png(&bytes).expect("decodes");
@@ -1005,7 +1005,7 @@ fn cli_png_layers_draw_the_overlays_named_and_the_comb_only_where_it_draws() {
         ..Overlays::NONE
     };
     let library =
-        kansei::cli::quick_look_png(&file, &out, size, &RenderOptions::with_overlays(overlays))
+        kansei::render::quick_look_png(&file, &out, size, &RenderOptions::with_overlays(overlays))
             .expect("renders");
     assert_eq!(
         base.data(),

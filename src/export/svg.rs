@@ -215,6 +215,13 @@ impl SvgOptions {
         self
     }
 
+    /// Sets the optional layers by name (`samples`, `bspline`, `alpha`, `splits`, as
+    /// `kansei fit --svg-layers` and the service's `layers` take them); other names are ignored.
+    pub fn with_layer_names(self, names: &[String]) -> Self {
+        let on = |name: &str| names.iter().any(|l| l == name);
+        self.with_layers(on("samples"), on("bspline"), on("alpha"), on("splits"))
+    }
+
     /// The options with every length that is not a finite non-negative number (line width: not
     /// positive) replaced by the default of `units`.
     fn sanitized(self, units: Units) -> Self {

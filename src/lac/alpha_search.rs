@@ -109,6 +109,21 @@ impl Default for AlphaChoice {
     }
 }
 
+/// Parses `MIN:MAX` (as `kansei fit --alpha-range` and the service's `alpha_range` take it) into a
+/// finite, non-empty interval.
+pub fn parse_alpha_range(text: &str) -> Result<(f64, f64), String> {
+    let (a, b) = text
+        .split_once(':')
+        .ok_or_else(|| format!("expected MIN:MAX, got {text:?}"))?;
+    let parse = |x: &str| x.trim().parse::<f64>().map_err(|e| format!("{x:?}: {e}"));
+    let (min, max) = (parse(a)?, parse(b)?);
+    if min.is_finite() && max.is_finite() && min <= max {
+        Ok((min, max))
+    } else {
+        Err(format!("{text:?} is not a finite interval with MIN <= MAX"))
+    }
+}
+
 impl AlphaChoice {
     /// The range's middle (the fixed α itself): the value to give a segment whose α does not
     /// matter (an arc or a line, which every α reproduces) or is not known yet.

@@ -38,7 +38,9 @@ mod special;
 pub mod standard;
 pub mod yoshida_saito;
 
-pub use alpha_search::{AlphaChoice, AlphaSearch, SpanFit, SpanFitOptions, fit_span, within};
+pub use alpha_search::{
+    AlphaChoice, AlphaSearch, SpanFit, SpanFitOptions, fit_span, parse_alpha_range, within,
+};
 pub use biarc::biarc;
 pub use deviation::{Deviation, deviation, rough_deviation};
 pub use error::LacError;

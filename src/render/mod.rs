@@ -42,6 +42,7 @@ mod legend;
 mod options;
 mod overlays;
 mod primitives;
+mod quick_look;
 mod scene;
 mod text;
 mod view;
@@ -64,6 +65,7 @@ pub use overlays::{
     segment_may_show, segment_path, segment_spacing,
 };
 pub use primitives::{MarkerShape, PIXEL_COORD_LIMIT};
+pub use quick_look::{OVERLAY_NAMES, QUICK_LOOK_MARGIN_PX, quick_look_png};
 pub use scene::{BOUNDS_POINTS_PER_SEGMENT, Scene, render, render_png, scene_bounds};
 pub use text::{GLYPH_ADVANCE, GLYPH_GRID, GLYPH_WIDTH, draw_text, glyph, text_width};
 pub use view::{FALLBACK_PIXELS_PER_UNIT, MIN_FIT_EXTENT_PX, View};

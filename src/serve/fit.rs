@@ -5,15 +5,11 @@
 
 use crate::export::{CurveFile, DxfOptions, ExportOptions, SvgOptions, dxf_drawing, svg_document};
 use crate::pipeline::{FitOutput, PipelineOptions, fit_file};
-use crate::render::{RenderOptions, Scene, View, render_png, scene_bounds};
+use crate::render::RenderOptions;
 use crate::stroke::{Stroke, StrokeFile};
 
 use super::error::ApiError;
 use super::options::ServeOptions;
-
-/// Margin around the scene in the PNG export, pixels: the same as `kansei fit --png`'s (the
-/// tests compare the two images byte for byte).
-pub const PNG_MARGIN_PX: f64 = 48.0;
 
 /// The request limits a body is held to.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -90,17 +86,11 @@ pub fn svg(
     accuracy: Option<f64>,
     layers: &[String],
 ) -> String {
-    let layer = |name: &str| layers.iter().any(|l| l == name);
     let options = SvgOptions {
         accuracy,
         ..SvgOptions::for_units(file.units)
     }
-    .with_layers(
-        layer("samples"),
-        layer("bspline"),
-        layer("alpha"),
-        layer("splits"),
-    );
+    .with_layer_names(layers);
     svg_document(output, Some(file), &options).svg
 }
 
@@ -111,18 +101,15 @@ pub fn dxf(output: &FitOutput, accuracy: Option<f64>) -> Result<Vec<u8>, ApiErro
         .map_err(|e| ApiError::internal(format!("the DXF could not be written: {e}")))
 }
 
-/// The PNG export: the whole scene in view with a margin of [`PNG_MARGIN_PX`], as
-/// `kansei fit --png` draws it.
+/// The PNG export, as `kansei fit --png` draws it ([`crate::render::quick_look_png`]).
 pub fn png(
     file: &StrokeFile,
     output: &FitOutput,
     size: (u32, u32),
     options: &RenderOptions,
 ) -> Result<Vec<u8>, ApiError> {
-    let scene = Scene::new(&file.strokes, &output.curves, file.units);
-    let bounds = scene_bounds(&scene).unwrap_or_default();
-    let view = View::fit(bounds, size.0, size.1, PNG_MARGIN_PX);
-    render_png(&scene, &view, options).map_err(|e| ApiError::bad_request(e.to_string()))
+    crate::render::quick_look_png(file, output, size, options)
+        .map_err(|e| ApiError::bad_request(e.to_string()))
 }
 
 /// The compact `kansei-curve` document of one stroke of `units`, as `/v1/fit` fits a file

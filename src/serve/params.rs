@@ -4,7 +4,6 @@
 
 use crate::lac::AlphaChoice;
 use crate::pipeline::PipelineOptions;
-use crate::render::Overlays;
 use crate::stroke::Units;
 
 use super::error::ApiError;
@@ -28,16 +27,7 @@ pub const CONTINUITIES: [&str; 1] = ["g1"];
 pub const SVG_LAYERS: [&str; 4] = ["samples", "bspline", "alpha", "splits"];
 
 /// The PNG layers `layers` may name (as `kansei fit --png-layers`).
-pub const PNG_LAYERS: [&str; 8] = [
-    "samples",
-    "bspline",
-    "control-polygon",
-    "splits",
-    "segments",
-    "comb",
-    "legend",
-    "scale-bar",
-];
+pub const PNG_LAYERS: [&str; 8] = crate::render::OVERLAY_NAMES;
 
 /// The default PNG size, as `kansei fit --size`.
 pub const DEFAULT_PNG_SIZE: (u32, u32) = (1600, 1000);
@@ -146,7 +136,7 @@ impl Params {
                 options.chain.alpha = AlphaChoice::Fixed(alpha);
             }
             (None, Some(range)) => {
-                let (min, max) = parse_alpha_range(range)
+                let (min, max) = crate::lac::parse_alpha_range(range)
                     .map_err(|e| ApiError::bad_request(format!("alpha_range: {e}")))?;
                 options.chain.alpha = AlphaChoice::Range { min, max };
             }
@@ -221,35 +211,6 @@ impl Params {
                 "units must be px, mm or device, got {u:?}"
             ))),
         }
-    }
-}
-
-/// The PNG overlays named in `layers` (names of [`PNG_LAYERS`]), the rest off.
-pub fn png_overlays(layers: &[String]) -> Overlays {
-    let on = |name: &str| layers.iter().any(|l| l == name);
-    Overlays {
-        samples: on("samples"),
-        bspline: on("bspline"),
-        control_polygon: on("control-polygon"),
-        splits: on("splits"),
-        segments: on("segments"),
-        comb: on("comb"),
-        legend: on("legend"),
-        scale_bar: on("scale-bar"),
-    }
-}
-
-/// Parses `MIN:MAX` into a finite, non-empty interval (as `kansei fit --alpha-range`).
-fn parse_alpha_range(text: &str) -> Result<(f64, f64), String> {
-    let (a, b) = text
-        .split_once(':')
-        .ok_or_else(|| format!("expected MIN:MAX, got {text:?}"))?;
-    let parse = |x: &str| x.trim().parse::<f64>().map_err(|e| format!("{x:?}: {e}"));
-    let (min, max) = (parse(a)?, parse(b)?);
-    if min.is_finite() && max.is_finite() && min <= max {
-        Ok((min, max))
-    } else {
-        Err(format!("{text:?} is not a finite interval with MIN <= MAX"))
     }
 }
 

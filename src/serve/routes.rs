@@ -14,7 +14,7 @@ use super::fit::{RequestLimits, curve_json, dxf, fit, png, read_request, svg};
 use super::limits::FitPool;
 use super::options::ServeOptions;
 use super::page;
-use super::params::{FIT_PARAMS, PNG_LAYERS, Params, SVG_LAYERS, png_overlays};
+use super::params::{FIT_PARAMS, PNG_LAYERS, Params, SVG_LAYERS};
 use super::stream;
 use crate::render::{Overlays, RenderOptions};
 
@@ -226,7 +226,7 @@ async fn export_png(
         params
             .layers(&PNG_LAYERS)?
             .as_deref()
-            .map_or_else(Overlays::default, png_overlays),
+            .map_or_else(Overlays::default, Overlays::named),
     );
     let bytes = body(bytes, state.max_body_bytes)?;
     let limits = state.limits;
