@@ -25,6 +25,20 @@ const CHORD_ERROR_FRACTION: f64 = 1e-3;
 /// take the segment's evaluation past the accuracy its record promises.
 const MIN_RADIUS_FRACTION: f64 = 1e-2;
 
+/// Passes of [`Fitter::repair`] per segment it starts with, plus [`REPAIR_PASSES_EXTRA`]: a
+/// repair visits each segment once and cuts a few of them, each cut at most a few times over
+/// (a fixture stroke needs well under one per segment); a budget of 16 per segment is only
+/// spent by a drop and a cut undoing each other.
+const REPAIR_PASSES_PER_SEGMENT: usize = 16;
+/// Passes of [`Fitter::repair`] beyond those per segment (a chain of one segment may need a few
+/// cuts).
+const REPAIR_PASSES_EXTRA: usize = 64;
+
+/// A segment no biarc can join is cut on the B-spline only while a half's chord exceeds this
+/// many tolerances ([`Fitter::split_on_curve`]): below that, the samples there lie within the
+/// tolerance of a line between the joints, and cutting cannot make a curve of them.
+const MIN_SPLIT_CHORD_FRACTION: f64 = 1.0;
+
 /// Joints closer than this fraction of the tolerance coincide: a segment between them has no
 /// length to speak of (and none that the data could resolve).
 const COINCIDENT_JOINT_FRACTION: f64 = 1e-6;
@@ -677,11 +691,24 @@ impl<'a> Fitter<'a> {
     ) -> Result<(), ChainError> {
         let middle = self.options.alpha.middle();
         let mut k = 0;
+        // Each pass of the loop either moves on, drops a segment or cuts one; drops and cuts can
+        // undo each other where the data fold on themselves (the fuzzer found a fold on a fine
+        // grid that cycled for minutes), so the passes are bounded: past the budget the repair
+        // fails and the pipeline cuts the piece at its sharpest vertex instead.
+        let mut budget = REPAIR_PASSES_PER_SEGMENT * (state.len() + 1) + REPAIR_PASSES_EXTRA;
         while k < state.len() {
             if state.segment(k).is_ok() {
                 k += 1;
                 continue;
             }
+            if budget == 0 {
+                return Err(ChainError::Span {
+                    u0: state.joints[k].u,
+                    u1: state.joints[k + 1].u,
+                    source: LacError::CoincidentEndPoints,
+                });
+            }
+            budget -= 1;
             let (a, b) = (state.joints[k], state.joints[k + 1]);
             let mut reference = state.points_of(k);
             if reference.is_empty() {
@@ -816,6 +843,14 @@ impl<'a> Fitter<'a> {
         let mid = self.joint_at(um, JointKind::Subdivision);
         let apart = COINCIDENT_JOINT_FRACTION * self.tolerance;
         if !(a.u < um && um < b.u) || mid.p.distance(a.p) <= apart || mid.p.distance(b.p) <= apart {
+            return false;
+        }
+        // Halves within the tolerance of their joints' chord are no curve to cut further: the
+        // repair then fails on this span and the pipeline cuts the piece at its sharpest vertex.
+        // Without this floor, a fold on a fine grid (0.005 px steps at 0.1 px) was cut again and
+        // again, both halves each time, for minutes (the fuzzer's hang).
+        let floor = MIN_SPLIT_CHORD_FRACTION * self.tolerance;
+        if mid.p.distance(a.p) <= floor && mid.p.distance(b.p) <= floor {
             return false;
         }
         let params = self.params.as_slice();
