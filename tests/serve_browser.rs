@@ -13,7 +13,7 @@ mod common;
 
 use std::io::{BufRead, BufReader};
 use std::net::{SocketAddr, TcpStream};
-use std::process::{Child, Command, Stdio};
+use std::process::Child;
 use std::time::{Duration, Instant};
 
 use common::http;
@@ -24,8 +24,6 @@ use tiny_skia::Pixmap;
 use tungstenite::stream::MaybeTlsStream;
 use tungstenite::{Message, WebSocket};
 
-/// The browser's executable names, tried in order (Debian's package installs `chromium`).
-const BROWSERS: [&str; 2] = ["chromium", "chromium-browser"];
 /// Longest wait for the browser to start, the page to load or the fit to come back.
 const TIMEOUT: Duration = Duration::from_secs(60);
 /// The browser's window, CSS pixels.
@@ -33,20 +31,6 @@ const WINDOW: (u32, u32) = (1200, 900);
 /// The page's viewport (set through the protocol, device scale 1): room below the toolbar for
 /// the planted stroke.
 const VIEWPORT: (u32, u32) = (1200, 900);
-
-fn browser() -> Result<&'static str, String> {
-    for name in BROWSERS {
-        let ok = Command::new(name)
-            .arg("--version")
-            .stdin(Stdio::null())
-            .output()
-            .is_ok_and(|o| o.status.success());
-        if ok {
-            return Ok(name);
-        }
-    }
-    Err(format!("none of {BROWSERS:?} runs"))
-}
 
 /// The browser process, killed when dropped.
 struct Browser {
@@ -64,29 +48,14 @@ impl Drop for Browser {
 /// Starts headless `name` on `url` and returns it with the DevTools port.
 fn launch(name: &str, url: &str) -> (Browser, u16) {
     let profile = std::path::Path::new(env!("CARGO_TARGET_TMPDIR")).join("serve_browser_profile");
-    let _ = std::fs::remove_dir_all(&profile);
-    std::fs::create_dir_all(&profile).expect("profile directory");
-    let mut child = Command::new(name)
+    let mut child = common::browser::headless(name, &profile, WINDOW)
+        .unwrap_or_else(|e| panic!("{e}"))
         .args([
-            "--headless",
-            "--no-sandbox",
-            "--disable-gpu",
-            "--disable-quic",
-            "--no-first-run",
-            "--disable-background-networking",
-            "--disable-component-update",
-            "--disable-sync",
-            "--hide-scrollbars",
             "--force-device-scale-factor=1",
             "--remote-debugging-address=127.0.0.1",
             "--remote-debugging-port=0",
         ])
-        .arg(format!("--user-data-dir={}", profile.display()))
-        .arg(format!("--window-size={},{}", WINDOW.0, WINDOW.1))
         .arg(url)
-        .stdin(Stdio::null())
-        .stdout(Stdio::null())
-        .stderr(Stdio::piped())
         .spawn()
         .unwrap_or_else(|e| panic!("{name} does not start: {e}"));
     let stderr = child.stderr.take().expect("stderr");
@@ -204,7 +173,7 @@ fn planted(i: usize, n: usize) -> ((f64, f64), f64, (f64, f64)) {
 
 #[test]
 fn the_pen_page_fits_a_pen_stroke_like_the_api() {
-    let name = match browser() {
+    let name = match common::browser::browser() {
         Ok(name) => name,
         Err(why) if std::env::var_os("KANSEI_REQUIRE_CHROMIUM").is_some() => {
             panic!("KANSEI_REQUIRE_CHROMIUM is set but {why}")

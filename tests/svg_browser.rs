@@ -9,16 +9,12 @@
 mod common;
 
 use std::path::{Path, PathBuf};
-use std::process::{Command, Stdio};
 use std::time::{Duration, Instant};
 
 use kansei::export::{SvgOptions, svg_document};
 use kansei::pipeline::{FitOutput, PipelineOptions, fit_file};
 use kansei::stroke::{StrokeFile, Units};
 use kurbo::Point;
-
-/// The browser's executable names, tried in order (Debian's package installs `chromium`).
-const BROWSERS: [&str; 2] = ["chromium", "chromium-browser"];
 
 /// A screenshot that takes longer than this has hung (a cold start here takes a few seconds).
 const BROWSER_TIMEOUT: Duration = Duration::from_secs(60);
@@ -51,21 +47,6 @@ const FRINGE: f64 = 3.0;
 /// Spacing of the chain's sample points, in pixels: well under [`INK_REACH`].
 const CHAIN_SPACING_PX: f64 = 0.5;
 
-/// The browser command, or `None` (with the reason) when none runs here.
-fn browser() -> Result<&'static str, String> {
-    for name in BROWSERS {
-        let ok = Command::new(name)
-            .arg("--version")
-            .stdin(Stdio::null())
-            .output()
-            .is_ok_and(|o| o.status.success());
-        if ok {
-            return Ok(name);
-        }
-    }
-    Err(format!("none of {BROWSERS:?} runs"))
-}
-
 /// Runs `browser` headless on `svg`, writing a `size` screenshot to `png`, with a fresh profile
 /// in `profile`. Kills the browser after [`BROWSER_TIMEOUT`].
 fn screenshot(
@@ -75,30 +56,10 @@ fn screenshot(
     profile: &Path,
     size: (u32, u32),
 ) -> Result<(), String> {
-    let _ = std::fs::remove_dir_all(profile);
     let _ = std::fs::remove_file(png);
-    std::fs::create_dir_all(profile).map_err(|e| format!("{}: {e}", profile.display()))?;
-    // Without the background-networking flags the browser's connections are refused on a
-    // closed network, and it may wait on them.
-    let mut child = Command::new(browser)
-        .args([
-            "--headless",
-            "--no-sandbox",
-            "--disable-gpu",
-            "--disable-quic",
-            "--no-first-run",
-            "--disable-background-networking",
-            "--disable-component-update",
-            "--disable-sync",
-            "--hide-scrollbars",
-        ])
-        .arg(format!("--user-data-dir={}", profile.display()))
-        .arg(format!("--window-size={},{}", size.0, size.1))
+    let mut child = common::browser::headless(browser, profile, size)?
         .arg(format!("--screenshot={}", png.display()))
         .arg(format!("file://{}", svg.display()))
-        .stdin(Stdio::null())
-        .stdout(Stdio::null())
-        .stderr(Stdio::piped())
         .spawn()
         .map_err(|e| format!("{browser} does not start: {e}"))?;
     // stderr is read on its own thread so that a chatty browser never blocks on a full pipe.
@@ -263,7 +224,7 @@ fn cases() -> Vec<(String, StrokeFile, FitOutput)> {
 #[test]
 fn exported_svgs_render_in_headless_chromium_where_the_chain_is() {
     let required = std::env::var_os("KANSEI_REQUIRE_CHROMIUM").is_some();
-    let browser = match browser() {
+    let browser = match common::browser::browser() {
         Ok(b) => b,
         Err(why) if required => panic!("KANSEI_REQUIRE_CHROMIUM is set but {why}"),
         Err(why) => {

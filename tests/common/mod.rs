@@ -2,6 +2,7 @@
 #![allow(dead_code)]
 
 pub mod adversarial;
+pub mod browser;
 pub mod export;
 pub mod http;
 pub mod lac;
