@@ -124,19 +124,9 @@ fn all_fixtures() -> Vec<(String, StrokeFile)> {
             (n, f)
         })
         .collect();
-    let dir = format!("{}/fixtures/synthetic", env!("CARGO_MANIFEST_DIR"));
-    let mut synthetic: Vec<_> = std::fs::read_dir(&dir)
-        .unwrap_or_else(|e| panic!("{dir}: {e}"))
-        .filter_map(|e| e.ok().map(|e| e.path()))
-        .filter(|p| p.extension().is_some_and(|x| x == "json"))
-        .collect();
-    synthetic.sort();
+    let synthetic = common::synthetic_fixtures();
     assert_eq!(synthetic.len(), 4, "the four synthetic fixtures");
-    for path in synthetic {
-        let text = std::fs::read_to_string(&path).unwrap_or_else(|e| panic!("{path:?}: {e}"));
-        let file = StrokeFile::from_json(&text).unwrap_or_else(|e| panic!("{path:?}: {e}"));
-        out.push((path.to_string_lossy().into_owned(), file));
-    }
+    out.extend(synthetic);
     out
 }
 

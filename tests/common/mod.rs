@@ -10,23 +10,20 @@ pub mod lac;
 use kansei::geom::Point;
 use kansei::stroke::{Sample, Stroke, StrokeFile};
 
-/// A small deterministic generator (SplitMix64), so noisy strokes are the same on every run.
-pub struct Rng(u64);
+/// A small deterministic generator (the adversarial generator's SplitMix64), so noisy strokes
+/// are the same on every run.
+pub struct Rng(adversarial::SplitMix);
 
 impl Rng {
     pub fn new(seed: u64) -> Self {
-        Rng(seed)
+        Rng(adversarial::SplitMix::new(seed))
     }
     pub fn next_u64(&mut self) -> u64 {
-        self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
-        let mut z = self.0;
-        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
-        z ^ (z >> 31)
+        self.0.next_u64()
     }
     /// Uniform in [0, 1).
     pub fn uniform(&mut self) -> f64 {
-        (self.next_u64() >> 11) as f64 / (1u64 << 53) as f64
+        self.0.unit()
     }
     /// Standard normal (Box–Muller).
     pub fn normal(&mut self) -> f64 {
@@ -99,7 +96,28 @@ pub fn fixture(name: &str) -> StrokeFile {
 
 /// Every fixture stroke file's name.
 pub fn fixture_names() -> Vec<String> {
-    let dir = format!("{}/fixtures/strokes", env!("CARGO_MANIFEST_DIR"));
+    json_stems("strokes")
+}
+
+/// The synthetic stroke files (`fixtures/synthetic/`), each read: name and file.
+pub fn synthetic_fixtures() -> Vec<(String, StrokeFile)> {
+    json_stems("synthetic")
+        .into_iter()
+        .map(|name| {
+            let path = format!(
+                "{}/fixtures/synthetic/{name}.json",
+                env!("CARGO_MANIFEST_DIR")
+            );
+            let text = std::fs::read_to_string(&path).unwrap_or_else(|e| panic!("{path}: {e}"));
+            let file = StrokeFile::from_json(&text).unwrap_or_else(|e| panic!("{path}: {e}"));
+            (name, file)
+        })
+        .collect()
+}
+
+/// The stems of the `.json` files of `fixtures/<folder>`, sorted.
+fn json_stems(folder: &str) -> Vec<String> {
+    let dir = format!("{}/fixtures/{folder}", env!("CARGO_MANIFEST_DIR"));
     let mut names: Vec<String> = std::fs::read_dir(&dir)
         .unwrap_or_else(|e| panic!("{dir}: {e}"))
         .filter_map(|e| e.ok())
