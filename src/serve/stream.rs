@@ -61,6 +61,14 @@ struct Settings {
     limits: RequestLimits,
 }
 
+impl Settings {
+    /// The compact document of a stroke of `samples` under these settings (a preview's or the
+    /// final fit's; see [`stroke_document`]).
+    fn document(&self, samples: Vec<crate::stroke::Sample>) -> Result<String, ApiError> {
+        stroke_document(samples, self.units, &self.options, self.lcg, &self.limits)
+    }
+}
+
 /// `GET /v1/stream`: the WebSocket upgrade, after the query is checked.
 pub async fn upgrade(
     State(state): State<AppState>,
@@ -224,15 +232,7 @@ impl Session {
                         let result = self
                             .state
                             .pool
-                            .run("fitting", move || {
-                                stroke_document(
-                                    samples,
-                                    settings.units,
-                                    &settings.options,
-                                    settings.lcg,
-                                    &settings.limits,
-                                )
-                            })
+                            .run("fitting", move || settings.document(samples))
                             .await;
                         match result {
                             Ok(doc) => self.fit_message("final", n, &doc),
@@ -260,16 +260,8 @@ impl Session {
         let settings = self.settings.clone();
         let pool = self.state.pool.clone();
         let task = tokio::spawn(async move {
-            pool.run("fitting a preview", move || {
-                stroke_document(
-                    samples,
-                    settings.units,
-                    &settings.options,
-                    settings.lcg,
-                    &settings.limits,
-                )
-            })
-            .await
+            pool.run("fitting a preview", move || settings.document(samples))
+                .await
         });
         self.preview = Some(Preview { samples: n, task });
     }
