@@ -505,25 +505,31 @@ pub fn fit_files(
         .collect();
     let slots: Vec<Mutex<Option<StrokeOutcome>>> = jobs.iter().map(|_| Mutex::new(None)).collect();
     let (next, done) = (AtomicUsize::new(0), AtomicUsize::new(0));
-    let workers = threads.clamp(1, jobs.len().max(1));
-    std::thread::scope(|scope| {
-        for _ in 0..workers {
-            scope.spawn(|| {
-                loop {
-                    let i = next.fetch_add(1, Ordering::Relaxed);
-                    let Some(&(f, s)) = jobs.get(i) else {
-                        break;
-                    };
-                    let file = files[f];
-                    let tolerance = options.tolerance_for(file.units);
-                    let outcome = fit_one(&file.strokes[s], s, tolerance, options);
-                    // fit_one contains panics, so no lock is ever poisoned; take it either way.
-                    *slots[i].lock().unwrap_or_else(|e| e.into_inner()) = Some(outcome);
-                    progress(done.fetch_add(1, Ordering::Relaxed) + 1, jobs.len());
-                }
-            });
+    let work = || {
+        loop {
+            let i = next.fetch_add(1, Ordering::Relaxed);
+            let Some(&(f, s)) = jobs.get(i) else {
+                break;
+            };
+            let file = files[f];
+            let tolerance = options.tolerance_for(file.units);
+            let outcome = fit_one(&file.strokes[s], s, tolerance, options);
+            // fit_one contains panics, so no lock is ever poisoned; take it either way.
+            *slots[i].lock().unwrap_or_else(|e| e.into_inner()) = Some(outcome);
+            progress(done.fetch_add(1, Ordering::Relaxed) + 1, jobs.len());
         }
-    });
+    };
+    let workers = threads.clamp(1, jobs.len().max(1));
+    if workers == 1 {
+        // One worker runs on the calling thread ([`fit_file`], a service worker): no spawn.
+        work();
+    } else {
+        std::thread::scope(|scope| {
+            for _ in 0..workers {
+                scope.spawn(work);
+            }
+        });
+    }
     let mut outputs: Vec<FitOutput> = files
         .iter()
         .map(|file| {
@@ -549,13 +555,7 @@ pub fn fit_files(
 /// for in the output. Fails only on options that no stroke could be fitted with (a tolerance
 /// that is not a positive finite number).
 pub fn fit_file(file: &StrokeFile, options: &PipelineOptions) -> Result<FitOutput, PipelineError> {
-    let tolerance = options.tolerance_for(file.units);
-    if !(tolerance.is_finite() && tolerance > 0.0) {
-        return Err(PipelineError::BadTolerance(tolerance));
-    }
-    let mut output = FitOutput::with_curves(file.units, tolerance, Vec::new());
-    for (i, stroke) in file.strokes.iter().enumerate() {
-        output.push(fit_one(stroke, i, tolerance, options));
-    }
-    Ok(output)
+    let mut outputs = fit_files(&[file], options, 1, &|_, _| {})?;
+    // One file in, one output out.
+    Ok(outputs.swap_remove(0))
 }
