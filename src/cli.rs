@@ -138,6 +138,10 @@ pub struct FitSettings {
     /// Search α in MIN:MAX [default: -3:3].
     #[arg(long, value_parser = crate::lac::parse_alpha_range, allow_hyphen_values = true)]
     pub alpha_range: Option<(f64, f64)>,
+    /// Continuity at smooth joints: g1 (position and tangent), g2 (and curvature; a curve the
+    /// smooth fit cannot hold within the tolerance stays g1) or c3 (and dκ/ds).
+    #[arg(long, default_value = "g1")]
+    pub continuity: crate::chain::Continuity,
 }
 
 /// Parses `WIDTHxHEIGHT` (or `WIDTH×HEIGHT`) into a pixel size; the render checks the range.
@@ -169,6 +173,7 @@ impl FitSettings {
             keep_hooks: self.keep_hooks,
             ..PipelineOptions::default()
         };
+        options.chain.continuity = self.continuity;
         if let Some(alpha) = self.alpha {
             options.chain.alpha = AlphaChoice::Fixed(alpha);
         } else if let Some((min, max)) = self.alpha_range {

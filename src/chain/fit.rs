@@ -3,6 +3,7 @@ use rustc_hash::FxHashSet;
 use serde::{Deserialize, Serialize};
 
 use super::refine::{RefineOptions, refine};
+use super::smooth::{Continuity, SmoothInput, smooth_chain};
 use super::state::{Joint, SegmentKey, State};
 use crate::bspline::BSpline;
 use crate::bspline::project::Pieces;
@@ -90,6 +91,10 @@ pub struct ChainOptions {
     pub refine: bool,
     /// Iteration budget of each refinement. Default 30.
     pub refine_iterations: usize,
+    /// Continuity at the smooth joints. Default [`Continuity::G1`]. With G2 or C3 the G1
+    /// chain is refitted with one curvature per joint (see [`super::smooth`]); where that
+    /// cannot hold the tolerance the G1 chain is kept.
+    pub continuity: Continuity,
 }
 
 impl Default for ChainOptions {
@@ -100,6 +105,7 @@ impl Default for ChainOptions {
             merge: true,
             refine: true,
             refine_iterations: 30,
+            continuity: Continuity::G1,
         }
     }
 }
@@ -273,7 +279,19 @@ pub fn fit_chain(
         }
         fitter.repair(&mut state, &mut searches)?;
     }
-    fitter.finish(&state, searches)
+    let chain = fitter.finish(&state, searches)?;
+    if options.continuity == Continuity::G1 {
+        return Ok(chain);
+    }
+    let smooth = smooth_chain(&SmoothInput {
+        input,
+        chain: &chain,
+        tolerance,
+        chord_error: fitter.chord_error,
+        alpha: options.alpha,
+        continuity: options.continuity,
+    });
+    Ok(smooth.unwrap_or(chain))
 }
 
 /// How far from a changed segment a later refinement still moves the chain (in segments): 1,
@@ -1057,8 +1075,7 @@ impl<'a> Fitter<'a> {
                     .min()
             })
             .collect();
-        let (piece_first, piece_last) = self.input.samples;
-        let mut previous_last: Option<usize> = None;
+        let ranges = tile_ranges(&starts, self.input.samples);
         for (k, (search, evaluated)) in searches.into_iter().zip(&evaluated).enumerate() {
             let distances = &evaluated.residuals[..state.samples[k].len()];
             let rms = if distances.is_empty() {
@@ -1072,19 +1089,7 @@ impl<'a> Fitter<'a> {
                     Some(acc.map_or((u, u), |(lo, hi)| (lo.min(u), hi.max(u))))
                 },
             );
-            let range = if starts[k].is_some() {
-                let first = previous_last.map_or(piece_first, |l| l + 1);
-                let last = starts[k + 1..]
-                    .iter()
-                    .find_map(|s| *s)
-                    .map_or(piece_last, |next| next.saturating_sub(1))
-                    .max(first);
-                previous_last = Some(last);
-                (first, last)
-            } else {
-                let at = previous_last.unwrap_or(piece_first);
-                (at, at)
-            };
+            let range = ranges[k];
             segments.push(ChainSegment {
                 segment: evaluated.segment,
                 samples: range,
@@ -1105,68 +1110,121 @@ impl<'a> Fitter<'a> {
         })
     }
 
-    /// The distance from `q` to a polyline through points of `segment` spaced so that the
-    /// segment stays within the chord error of it (a curve of curvature at most κ stays within
-    /// κh²/8 of the chord of an arc of length h; a log-aesthetic segment's largest |κ| is at an
-    /// end): the global distance to the segment, to the chord error, where a foot-point search
-    /// may settle on a local minimum.
-    fn traced_distance(&self, segment: &LacSegment, q: Point) -> f64 {
-        let kappa = segment.kappa0().abs().max(segment.kappa1().abs());
-        let spacing = if kappa > 0.0 {
-            (8.0 * self.chord_error / kappa).sqrt()
-        } else {
-            segment.length()
-        };
-        let mut best = f64::INFINITY;
-        let mut previous: Option<Point> = None;
-        for sample in segment.samples(spacing) {
-            let b = sample.point;
-            let a = previous.unwrap_or(b);
-            let ab = b - a;
-            let f = if ab.hypot2() > 0.0 {
-                ((q - a).dot(ab) / ab.hypot2()).clamp(0.0, 1.0)
-            } else {
-                0.0
-            };
-            best = best.min(q.distance(a + ab * f));
-            previous = Some(b);
-        }
-        best
-    }
-
-    /// The largest distance from a sample to the chain (its nearest segment). A sample's distance
-    /// to its own segment bounds its distance to the chain from above, so the samples are taken
-    /// farthest from their own segment first, each measured against the others too, until the
-    /// next one's own distance cannot beat the largest found: usually after one or two.
+    /// The largest distance from a sample to the chain (see [`nearest_deviation`]).
     fn chain_deviation(&self, state: &State, evaluated: &[super::state::Evaluated]) -> f64 {
-        let mut own: Vec<(f64, usize, usize)> = Vec::new();
-        for (k, e) in evaluated.iter().enumerate() {
-            for (m, &i) in state.samples[k].iter().enumerate() {
-                own.push((e.residuals[m].abs(), k, i));
-            }
-        }
-        own.sort_by(|x, y| y.0.total_cmp(&x.0));
-        let mut worst: f64 = 0.0;
-        for &(d, _, i) in &own {
-            if d <= worst {
-                break;
-            }
-            // Its own segment too: a residual is the distance to a local foot point (Newton
-            // from a seed along the segment), which on a tightly curling segment need not be the
-            // nearest one (seen: 2.16 px from a sample lying on the segment's end).
-            let q = self.input.points[i];
-            let mut nearest = d;
-            for e in evaluated {
-                // Every point of a segment lies within half its length of its middle.
-                let length = e.segment.length();
-                if q.distance(e.segment.point(0.5 * length)) - 0.5 * length >= nearest {
-                    continue;
-                }
-                let local = deviation(&e.segment, &[q], self.chord_error).max;
-                nearest = nearest.min(local).min(self.traced_distance(&e.segment, q));
-            }
-            worst = worst.max(nearest);
-        }
-        worst
+        let segments: Vec<LacSegment> = evaluated.iter().map(|e| e.segment).collect();
+        let own: Vec<Vec<f64>> = evaluated
+            .iter()
+            .zip(&state.samples)
+            .map(|(e, list)| e.residuals[..list.len()].iter().map(|r| r.abs()).collect())
+            .collect();
+        nearest_deviation(
+            self.input.points,
+            &segments,
+            &state.samples,
+            &own,
+            self.chord_error,
+        )
     }
+}
+
+/// Each segment's inclusive range of original sample indices from its first one (`None`: it
+/// holds none): the ranges tile the piece `piece`, a segment ending where the next begins; a
+/// segment without samples gets the single index where it sits.
+pub(crate) fn tile_ranges(starts: &[Option<usize>], piece: (usize, usize)) -> Vec<(usize, usize)> {
+    let (piece_first, piece_last) = piece;
+    let mut previous_last: Option<usize> = None;
+    let mut ranges = Vec::with_capacity(starts.len());
+    for k in 0..starts.len() {
+        let range = if starts[k].is_some() {
+            let first = previous_last.map_or(piece_first, |l| l + 1);
+            let last = starts[k + 1..]
+                .iter()
+                .find_map(|s| *s)
+                .map_or(piece_last, |next| next.saturating_sub(1))
+                .max(first);
+            previous_last = Some(last);
+            (first, last)
+        } else {
+            let at = previous_last.unwrap_or(piece_first);
+            (at, at)
+        };
+        ranges.push(range);
+    }
+    ranges
+}
+
+/// The distance from `q` to a polyline through points of `segment` spaced so that the segment
+/// stays within the chord error of it (a curve of curvature at most κ stays within κh²/8 of the
+/// chord of an arc of length h; a log-aesthetic segment's largest |κ| is at an end): the global
+/// distance to the segment, to the chord error, where a foot-point search may settle on a local
+/// minimum.
+fn traced_distance(segment: &LacSegment, q: Point, chord_error: f64) -> f64 {
+    let kappa = segment.kappa0().abs().max(segment.kappa1().abs());
+    let spacing = if kappa > 0.0 {
+        (8.0 * chord_error / kappa).sqrt()
+    } else {
+        segment.length()
+    };
+    let mut best = f64::INFINITY;
+    let mut previous: Option<Point> = None;
+    for sample in segment.samples(spacing) {
+        let b = sample.point;
+        let a = previous.unwrap_or(b);
+        let ab = b - a;
+        let f = if ab.hypot2() > 0.0 {
+            ((q - a).dot(ab) / ab.hypot2()).clamp(0.0, 1.0)
+        } else {
+            0.0
+        };
+        best = best.min(q.distance(a + ab * f));
+        previous = Some(b);
+    }
+    best
+}
+
+/// The largest distance from a sample to the chain (its nearest segment), given each
+/// segment's samples (`samples[k]`, indices into `points`) and their distances to it (`own`).
+/// A sample's distance to its own segment bounds its distance to the chain from above, so the
+/// samples are taken farthest from their own segment first, each measured against the others
+/// too, until the next one's own distance cannot beat the largest found: usually after one or
+/// two.
+pub(crate) fn nearest_deviation(
+    points: &[Point],
+    segments: &[LacSegment],
+    samples: &[Vec<usize>],
+    own: &[Vec<f64>],
+    chord_error: f64,
+) -> f64 {
+    let mut order: Vec<(f64, usize)> = Vec::new();
+    for (list, distances) in samples.iter().zip(own) {
+        for (&i, &d) in list.iter().zip(distances) {
+            order.push((d, i));
+        }
+    }
+    order.sort_by(|x, y| y.0.total_cmp(&x.0));
+    let mut worst: f64 = 0.0;
+    for &(d, i) in &order {
+        if d <= worst {
+            break;
+        }
+        // Its own segment too: a residual is the distance to a local foot point (Newton from a
+        // seed along the segment), which on a tightly curling segment need not be the nearest
+        // one (seen: 2.16 px from a sample lying on the segment's end).
+        let q = points[i];
+        let mut nearest = d;
+        for segment in segments {
+            // Every point of a segment lies within half its length of its middle.
+            let length = segment.length();
+            if q.distance(segment.point(0.5 * length)) - 0.5 * length >= nearest {
+                continue;
+            }
+            let local = deviation(segment, &[q], chord_error).max;
+            nearest = nearest
+                .min(local)
+                .min(traced_distance(segment, q, chord_error));
+        }
+        worst = worst.max(nearest);
+    }
+    worst
 }

@@ -21,6 +21,8 @@
 mod band;
 mod fit;
 mod refine;
+pub mod smooth;
 mod state;
 
 pub use fit::{Chain, ChainError, ChainInput, ChainOptions, ChainSegment, JointKind, fit_chain};
+pub use smooth::Continuity;

@@ -21,7 +21,7 @@ pub const FIT_PARAMS: [&str; 7] = [
 
 /// The continuities the chain can be fitted with. G1 only, for now: the chain's segments share
 /// end points and tangents.
-pub const CONTINUITIES: [&str; 1] = ["g1"];
+pub const CONTINUITIES: [&str; 3] = crate::chain::Continuity::NAMES;
 
 /// The SVG layers `layers` may name (as `kansei fit --svg-layers`).
 pub const SVG_LAYERS: [&str; 4] = ["samples", "bspline", "alpha", "splits"];
@@ -104,13 +104,8 @@ impl Params {
             }
             options.tolerance = Some(t);
         }
-        if let Some(c) = self.get("continuity")
-            && !CONTINUITIES.contains(&c.to_ascii_lowercase().as_str())
-        {
-            return Err(ApiError::bad_request(format!(
-                "continuity must be one of {}, got {c:?} (G2 and G3 chains are not fitted yet)",
-                CONTINUITIES.join(", ")
-            )));
+        if let Some(c) = self.get("continuity") {
+            options.chain.continuity = c.parse().map_err(ApiError::bad_request)?;
         }
         if let Some(a) = self.number("corner_angle")? {
             if !a.is_finite() {
@@ -246,7 +241,7 @@ mod tests {
         for (query, words) in [
             ("tolerance=0", "tolerance must be a positive number"),
             ("tolerance=abc", "tolerance: \"abc\" is not a number"),
-            ("continuity=g2", "continuity must be one of g1"),
+            ("continuity=g3", "continuity must be one of g1, g2, c3"),
             ("alpha=1&alpha_range=0:1", "cannot be used together"),
             ("alpha_range=2:1", "not a finite interval"),
             ("alpha=inf", "alpha must be a finite number"),

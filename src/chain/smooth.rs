@@ -1,0 +1,1384 @@
+//! Curvature-continuous chains: one curvature per joint (G2) and, on request, one dκ/ds per joint
+//! as well (C3, the compound rhythm of Ziatdinov, Miura et al.).
+//!
+//! ## Parametrisation: continuity by construction
+//! A chain of n segments is laid out forward from its start point P₀ (fixed: the piece's start,
+//! a corner shared with the previous piece or the stroke's first point):
+//!
+//! * the start tangent angle θ₀;
+//! * one signed curvature per joint, κⱼ = σⱼ·e^{uⱼ} (j = 0..n), with the sign σⱼ fixed and the
+//!   log-magnitude uⱼ free, or κⱼ = 0 held fixed at an *inflection joint* (below);
+//! * per segment its length Sₖ = e^{vₖ} and its αₖ.
+//!
+//! Segment k is the LAC from the end pose of segment k − 1 with end curvatures κₖ, κₖ₊₁: the
+//! curvature of two neighbours at their joint is the one number κₖ₊₁, so G2 holds exactly, not to
+//! a tolerance. There are 1 + (n + 1) + 2n unknowns (fewer at inflections and lines), against
+//! 3(n + 1) + n for a G1 chain: one per interior joint fewer, as G2 requires.
+//!
+//! ## The fit: constrained Levenberg–Marquardt
+//! The unknowns minimise Σ rᵢ², rᵢ the signed distance from sample i to its segment, subject to
+//! the chain ending at the piece's end point Pₑ (two equations) and, for C3, to
+//! dκ/ds⁻ = dκ/ds⁺ at every interior joint with κ ≠ 0 (one equation each). Each step solves the
+//! damped Gauss–Newton system with the linearised constraints (a KKT system, Marquardt's
+//! scaling) and is then projected back onto the constraints by Newton steps of least norm, so
+//! every iterate is a chain that meets them. The Jacobian is exact in structure and cheap:
+//! a parameter of segment k reshapes at most segments k − 1 and k (differenced, at the samples'
+//! foot points), and moves every later segment rigidly with the end pose of the last reshaped
+//! one, so a later sample's distance changes by −n·(δE + δθ·(f − E)^⊥) (f its foot, n the
+//! normal there, E the end point). Samples near a joint are handed to the neighbour that is
+//! nearer after every accepted step: a joint slides along the data as the fit moves it.
+//!
+//! Starting point: the G1 chain (its joints' positions, tangents, curvatures and α). A joint's
+//! curvature starts at the geometric mean of the two sides' (they differ at a G1 joint).
+//!
+//! ## Inflections and lines
+//! A log-aesthetic segment with α ≥ 0 cannot reach κ = 0 at a finite point, so where the chain
+//! changes the sign of its curvature the joint is held at κ = 0 and the segments on both sides
+//! take α ≤ [`ZERO_END_ALPHA`] (α = −1, the clothoid, is inside that range): what a user gets
+//! there is a spiral leaving the inflection, never a tiny segment with a huge curvature. A line
+//! of the G1 chain stays a line and its neighbours meet it with κ = 0. A segment between two
+//! inflections would have to be a line; it is cut at its middle first. Where the α range allows
+//! no negative α (`--alpha 1`, say), an inflection cannot be G2 and the chain stays G1.
+//!
+//! ## Tolerance and honesty
+//! A segment may not bend tighter than a radius of [`MIN_RADIUS_TOLERANCES`] tolerances (a
+//! tighter bend is a corner the samples cannot tell from a curve), nor grow beyond
+//! [`MAX_LENGTH_FACTOR`] times its starting length. When the solved chain leaves a sample
+//! farther than the tolerance from its nearest segment, the segment holding the worst sample is
+//! cut at its middle (a new joint with that point's curvature) and the fit runs again, at most
+//! [`MAX_CUTS_PER_SEGMENT`] times per starting segment. When that is not enough (or a step
+//! cannot be built at all) the G1 chain is kept.
+
+use super::fit::{Chain, ChainInput, ChainSegment, JointKind, nearest_deviation, tile_ranges};
+use crate::bspline::project::Pieces;
+use crate::geom::{Point, Vec2};
+use crate::lac::deviation::{deviation, deviation_near};
+use crate::lac::{AlphaChoice, LacError, LacSegment};
+use nalgebra::{DMatrix, DVector};
+use serde::{Deserialize, Serialize};
+
+/// Continuity at the smooth (non-corner) joints of a chain.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum Continuity {
+    /// Position and tangent (the seed paper's chains; the default while the smooth fit does
+    /// not yet hold every real stroke's tolerance).
+    #[default]
+    G1,
+    /// Position, tangent and curvature.
+    G2,
+    /// Position, tangent, curvature and its arc-length derivative dκ/ds: a continuous
+    /// logarithmic curvature graph across the joint (compound rhythm).
+    C3,
+}
+
+impl Continuity {
+    /// Every mode's name, as the CLI, the service and the documents spell it.
+    pub const NAMES: [&'static str; 3] = ["g1", "g2", "c3"];
+
+    /// The mode's name (`g1`, `g2`, `c3`).
+    pub fn name(self) -> &'static str {
+        match self {
+            Continuity::G1 => "g1",
+            Continuity::G2 => "g2",
+            Continuity::C3 => "c3",
+        }
+    }
+}
+
+impl std::str::FromStr for Continuity {
+    type Err = String;
+
+    fn from_str(s: &str) -> Result<Self, String> {
+        match s.to_ascii_lowercase().as_str() {
+            "g1" => Ok(Continuity::G1),
+            "g2" => Ok(Continuity::G2),
+            "c3" => Ok(Continuity::C3),
+            _ => Err(format!(
+                "continuity must be one of {}, got {s:?}",
+                Continuity::NAMES.join(", ")
+            )),
+        }
+    }
+}
+
+impl std::fmt::Display for Continuity {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(self.name())
+    }
+}
+
+/// Largest α of a segment with a zero-curvature end. ρ^α must reach 0 there, which needs α < 0;
+/// close to 0 the segment's curvature leaves zero so steeply (κ ∝ s^{−1/α}) that its evaluation
+/// loses accuracy, and no drawn inflection looks like that. −0.05 keeps the whole practical
+/// range (the clothoid −1, and the −3..0 the α search offers) open.
+pub const ZERO_END_ALPHA: f64 = -0.05;
+
+/// Smallest radius of curvature of a smooth chain, in tolerances: a bend tighter than half a
+/// tolerance turns inside a disc the samples cannot tell from a corner; the G1 chain's needles
+/// (κ = 75 /px on a three-sample segment at 0.5 px) were exactly that.
+pub const MIN_RADIUS_TOLERANCES: f64 = 0.5;
+
+/// Largest turning between two consecutive samples (radians) a smooth chain may claim: the
+/// curvature at a joint is at most this over the piece's median sample spacing. A curve that
+/// turns by more than a radian between samples is not resolved by them; the G1 chain's needles
+/// (κ = 11.8 /px on a spring sampled every 5 px) are what the bound removes.
+pub const MAX_TURN_PER_SAMPLE: f64 = 1.0;
+
+/// Largest radius of curvature at a joint, in extents of the piece: flatter than that is a
+/// line to any tolerance, and the log-curvature must stay finite (e^u underflows to κ = 0,
+/// which only an inflection joint may have).
+pub const MAX_RADIUS_EXTENTS: f64 = 1e6;
+
+/// Largest length of a segment as a multiple of its starting length: a segment that grows
+/// beyond that has left its samples (a spiral winding between two samples), and the step is
+/// refused.
+pub const MAX_LENGTH_FACTOR: f64 = 10.0;
+
+/// Cuts allowed per segment of the starting chain before the smooth fit gives up (the G1 chain
+/// is kept): each cut adds two unknowns where the samples ask for them; a fit that needs more
+/// than this is following noise the G1 chain already represents.
+pub const MAX_CUTS_PER_SEGMENT: usize = 2;
+
+/// Iterations of one Levenberg–Marquardt solve. Each accepted step lowers the squared distances;
+/// from the G1 chain, 10–20 steps reach the minimum to the stopping rule below.
+const MAX_ITERATIONS: usize = 40;
+
+/// The solve stops when an accepted step lowers the sum of squared distances by less than this
+/// fraction: the distances then move by far less than the chord error.
+const RELATIVE_DECREASE: f64 = 1e-6;
+
+/// Forward-difference step of the unknowns (angles in radians, logs of curvatures and lengths,
+/// α): 1e-6 is √ε times the relative accuracy of the evaluation (~1e-12), the step that
+/// balances truncation against rounding.
+const DIFFERENCE_STEP: f64 = 1e-6;
+
+/// Marquardt's damping starts at this multiple of the normal matrix's diagonal.
+const INITIAL_DAMPING: f64 = 1e-3;
+
+/// Damping is multiplied by this after a refused step and divided by [`DAMPING_DECREASE`] after
+/// an accepted one.
+const DAMPING_INCREASE: f64 = 4.0;
+/// See [`DAMPING_INCREASE`].
+const DAMPING_DECREASE: f64 = 3.0;
+/// Beyond this damping the step is too short to matter: the solve has converged or is stuck.
+const MAX_DAMPING: f64 = 1e8;
+
+/// A diagonal entry of the normal matrix below this fraction of the largest is raised to it
+/// before damping: an unknown the samples do not see (α of a near arc) is then held by the
+/// damping instead of making the system singular.
+const DIAGONAL_FLOOR: f64 = 1e-9;
+
+/// Newton steps projecting a trial point back onto the constraints.
+const PROJECTION_STEPS: usize = 6;
+
+/// The end point is met to this fraction of the piece's extent (rounding of the integration is
+/// ~1e-13 of a segment's length).
+const END_TOLERANCE: f64 = 1e-10;
+
+/// A C3 joint's dκ/ds is met to this fraction of its magnitude (the issue asks for 1e-9 relative
+/// or better on the curvature; dκ/ds is one derivative more, from the same closed form).
+const C3_TOLERANCE: f64 = 1e-9;
+
+/// Where the smooth fit starts and what it keeps.
+pub(crate) struct SmoothInput<'a> {
+    /// The piece's chain input.
+    pub input: &'a ChainInput<'a>,
+    /// The G1 chain to start from.
+    pub chain: &'a Chain,
+    /// The tolerance.
+    pub tolerance: f64,
+    /// Chord error of the distance evaluations.
+    pub chord_error: f64,
+    /// α allowed per segment.
+    pub alpha: AlphaChoice,
+    /// G2 or C3 (G1 returns the chain unchanged).
+    pub continuity: Continuity,
+}
+
+/// The unknowns of a chain.
+#[derive(Clone, Debug)]
+struct Params {
+    theta0: f64,
+    /// Log-magnitude of each joint's curvature (unused at zero joints).
+    u: Vec<f64>,
+    /// Log-length of each segment.
+    v: Vec<f64>,
+    /// α of each segment (unused where not free).
+    alpha: Vec<f64>,
+}
+
+/// One free unknown.
+#[derive(Clone, Copy, Debug, PartialEq)]
+enum Var {
+    Theta0,
+    Joint(usize),
+    Length(usize),
+    Alpha(usize),
+}
+
+/// The chain's structure: which joints are zero, their signs, which α are free and within what.
+#[derive(Clone, Debug)]
+struct Layout {
+    /// Per joint (n + 1): sign of the curvature, 0 at a zero joint.
+    sigma: Vec<f64>,
+    /// Per segment: its α range, `None` for a line (both joints zero) or a fixed α.
+    alpha_bounds: Vec<Option<(f64, f64)>>,
+    /// Per segment: the largest length.
+    max_length: Vec<f64>,
+    /// Per segment: the joint kind at its start (the last segment's end is in `end_kind`).
+    kinds: Vec<JointKind>,
+    end_kind: JointKind,
+    /// The α search record carried from the G1 segment each segment comes from.
+    origin: Vec<usize>,
+    /// Per segment: the end point and tangent angle the G1 chain has there (see
+    /// [`greedy_start`]).
+    targets: Vec<(Point, f64)>,
+}
+
+impl Layout {
+    fn n(&self) -> usize {
+        self.alpha_bounds.len()
+    }
+
+    fn vars(&self) -> Vec<Var> {
+        let mut vars = vec![Var::Theta0];
+        vars.extend(
+            (0..=self.n())
+                .filter(|&j| self.sigma[j] != 0.0)
+                .map(Var::Joint),
+        );
+        vars.extend((0..self.n()).map(Var::Length));
+        vars.extend(
+            (0..self.n())
+                .filter(|&k| self.alpha_bounds[k].is_some())
+                .map(Var::Alpha),
+        );
+        vars
+    }
+
+    fn kappa(&self, x: &Params, j: usize) -> f64 {
+        if self.sigma[j] == 0.0 {
+            0.0
+        } else {
+            self.sigma[j] * x.u[j].exp()
+        }
+    }
+
+    /// Segment k of `x` starting at `start` with tangent angle `theta`.
+    fn segment(
+        &self,
+        x: &Params,
+        k: usize,
+        start: Point,
+        theta: f64,
+    ) -> Result<LacSegment, LacError> {
+        let (ka, kb) = (self.kappa(x, k), self.kappa(x, k + 1));
+        let alpha = (ka != kb).then_some(x.alpha[k]);
+        LacSegment::new(start, theta, x.v[k].exp(), alpha, ka, kb)
+    }
+
+    /// The whole chain of `x` from `start`.
+    fn build(&self, x: &Params, start: Point) -> Result<Vec<LacSegment>, LacError> {
+        let mut segments: Vec<LacSegment> = Vec::with_capacity(self.n());
+        let (mut p, mut theta) = (start, x.theta0);
+        for k in 0..self.n() {
+            let seg = self.segment(x, k, p, theta)?;
+            p = seg.end();
+            theta = seg.theta1();
+            segments.push(seg);
+        }
+        Ok(segments)
+    }
+
+    /// Segments `k0..=k1` of `x` rebuilt from the start pose of `segments[k0]`.
+    fn rebuild(
+        &self,
+        x: &Params,
+        segments: &[LacSegment],
+        k0: usize,
+        k1: usize,
+    ) -> Result<Vec<LacSegment>, LacError> {
+        let (mut p, mut theta) = (segments[k0].start(), segments[k0].theta0());
+        let mut out = Vec::with_capacity(k1 + 1 - k0);
+        for k in k0..=k1 {
+            let seg = self.segment(x, k, p, theta)?;
+            p = seg.end();
+            theta = seg.theta1();
+            out.push(seg);
+        }
+        Ok(out)
+    }
+
+    /// The segments a change of `var` reshapes (the rest before them stay, after them move
+    /// rigidly).
+    fn reach(&self, var: Var) -> (usize, usize) {
+        match var {
+            Var::Theta0 => (0, self.n() - 1),
+            Var::Joint(j) => (j.saturating_sub(1), j.min(self.n() - 1)),
+            Var::Length(k) | Var::Alpha(k) => (k, k),
+        }
+    }
+
+    /// Interior joints whose dκ/ds is constrained (C3): the non-zero ones.
+    fn c3_joints(&self) -> Vec<usize> {
+        (1..self.n()).filter(|&j| self.sigma[j] != 0.0).collect()
+    }
+
+    /// Clamps `x` into the box: α within its bounds, curvature within the cap, length within
+    /// its largest.
+    fn clamp(&self, x: &mut Params, (min_log_kappa, max_log_kappa): (f64, f64)) {
+        for k in 0..self.n() {
+            if let Some((lo, hi)) = self.alpha_bounds[k] {
+                x.alpha[k] = x.alpha[k].clamp(lo, hi);
+            }
+            x.v[k] = x.v[k].min(self.max_length[k].ln());
+        }
+        for u in &mut x.u {
+            *u = u.clamp(min_log_kappa, max_log_kappa);
+        }
+    }
+}
+
+fn get(x: &Params, var: Var) -> f64 {
+    match var {
+        Var::Theta0 => x.theta0,
+        Var::Joint(j) => x.u[j],
+        Var::Length(k) => x.v[k],
+        Var::Alpha(k) => x.alpha[k],
+    }
+}
+
+fn set(x: &mut Params, var: Var, value: f64) {
+    match var {
+        Var::Theta0 => x.theta0 = value,
+        Var::Joint(j) => x.u[j] = value,
+        Var::Length(k) => x.v[k] = value,
+        Var::Alpha(k) => x.alpha[k] = value,
+    }
+}
+
+/// The left normal of tangent angle θ.
+fn normal(theta: f64) -> Vec2 {
+    let (s, c) = theta.sin_cos();
+    Vec2::new(-s, c)
+}
+
+fn perp(v: Vec2) -> Vec2 {
+    Vec2::new(-v.y, v.x)
+}
+
+/// The samples' signed distances to a chain, with their feet.
+#[derive(Clone, Debug)]
+struct Evaluation {
+    segments: Vec<LacSegment>,
+    /// Per segment, per assigned sample: signed distance (left of travel positive).
+    residuals: Vec<Vec<f64>>,
+    /// Per segment, per assigned sample: foot arc length.
+    feet: Vec<Vec<f64>>,
+    /// Per segment, per assigned sample: foot point and left normal there.
+    foot_points: Vec<Vec<(Point, Vec2)>>,
+    cost: f64,
+}
+
+struct Solver<'a> {
+    points: &'a [Point],
+    start: Point,
+    end: Point,
+    scale: f64,
+    tolerance: f64,
+    chord_error: f64,
+    /// Bounds of the joints' log-curvature magnitudes (see [`MIN_RADIUS_TOLERANCES`],
+    /// [`MAX_RADIUS_EXTENTS`]).
+    log_kappa: (f64, f64),
+    c3: bool,
+}
+
+impl Solver<'_> {
+    fn points_of(&self, list: &[usize]) -> Vec<Point> {
+        list.iter().map(|&i| self.points[i]).collect()
+    }
+
+    /// Distances of the assigned samples to `segments`, seeded at `near`'s feet where its
+    /// segment holds the same samples.
+    fn evaluate(
+        &self,
+        segments: Vec<LacSegment>,
+        assign: &[Vec<usize>],
+        near: Option<(&Evaluation, &[Vec<usize>])>,
+    ) -> Evaluation {
+        let n = segments.len();
+        let mut e = Evaluation {
+            residuals: Vec::with_capacity(n),
+            feet: Vec::with_capacity(n),
+            foot_points: Vec::with_capacity(n),
+            cost: 0.0,
+            segments,
+        };
+        for (k, list) in assign.iter().enumerate() {
+            let seg = &e.segments[k];
+            let pts = self.points_of(list);
+            let seeded = near.and_then(|(old, old_assign)| {
+                if old_assign.get(k)? != list {
+                    return None;
+                }
+                let ratio = seg.length() / old.segments[k].length();
+                let seeds: Vec<f64> = old.feet[k].iter().map(|s| s * ratio).collect();
+                deviation_near(seg, &pts, &seeds)
+            });
+            let d = seeded.unwrap_or_else(|| deviation(seg, &pts, self.chord_error));
+            let foot_points = if d.foot_points.len() == pts.len() {
+                d.foot_points.clone()
+            } else {
+                d.feet
+                    .iter()
+                    .map(|&s| {
+                        let sample = seg.sample(s);
+                        (sample.point, normal(sample.theta))
+                    })
+                    .collect()
+            };
+            let residuals: Vec<f64> = d
+                .distances
+                .iter()
+                .zip(&d.sides)
+                .map(|(dist, side)| if *side < 0.0 { -dist } else { *dist })
+                .collect();
+            // The residual's gradient direction: the normal at an interior foot, the direction
+            // from the foot where the foot is a segment end (a sample beyond it).
+            let foot_points: Vec<(Point, Vec2)> = foot_points
+                .into_iter()
+                .zip(pts.iter().zip(&residuals))
+                .map(|((f, n), (q, r))| {
+                    let v = *q - f;
+                    if v.hypot() > 0.0 && *r != 0.0 {
+                        (f, v / *r)
+                    } else {
+                        (f, n)
+                    }
+                })
+                .collect();
+            e.cost += residuals.iter().map(|r| r * r).sum::<f64>();
+            e.residuals.push(residuals);
+            e.feet.push(d.feet);
+            e.foot_points.push(foot_points);
+        }
+        e
+    }
+
+    /// The constraint values of a chain: end point minus the target (scaled by the extent),
+    /// then for C3 the dκ/ds differences at `c3_joints`.
+    fn constraints(&self, segments: &[LacSegment], c3_joints: &[usize]) -> DVector<f64> {
+        let mut c = Vec::with_capacity(2 + c3_joints.len());
+        let end = segments.last().map_or(self.start, |s| s.end());
+        c.push((end.x - self.end.x) / self.scale);
+        c.push((end.y - self.end.y) / self.scale);
+        if self.c3 {
+            for &j in c3_joints {
+                c.push(c3_gap(&segments[j - 1], &segments[j]));
+            }
+        }
+        DVector::from_vec(c)
+    }
+
+    fn constraints_met(&self, c: &DVector<f64>) -> bool {
+        c.iter()
+            .enumerate()
+            .all(|(i, v)| v.abs() <= if i < 2 { END_TOLERANCE } else { C3_TOLERANCE })
+    }
+}
+
+/// The C3 condition at a joint as a dimensionless gap: the difference of dκ/ds either side
+/// relative to their magnitude (dκ/ds of both sides share the joint's curvature, so the gap is
+/// the relative jump of the logarithmic curvature graph's ordinate there, to first order).
+fn c3_gap(before: &LacSegment, after: &LacSegment) -> f64 {
+    let a = before.dkappa_ds(before.length());
+    let b = after.dkappa_ds(0.0);
+    let scale = a.abs().max(b.abs());
+    if scale > 0.0 && scale.is_finite() {
+        (a - b) / scale
+    } else {
+        0.0
+    }
+}
+
+/// The chain `chain` refitted with the continuity of `smooth.continuity` (see the module
+/// documentation); `None` where it cannot be done within the tolerance (the G1 chain stands).
+pub(crate) fn smooth_chain(smooth: &SmoothInput) -> Option<Chain> {
+    let input = smooth.input;
+    let chain = smooth.chain;
+    if smooth.continuity == Continuity::G1 || chain.segments.is_empty() {
+        return None;
+    }
+    let points = input.points;
+    // Each G1 segment's local samples (points whose original index lies in its range).
+    let mut assign: Vec<Vec<usize>> = chain
+        .segments
+        .iter()
+        .map(|s| {
+            (0..points.len())
+                .filter(|&i| {
+                    let o = input.indices[i];
+                    o >= s.samples.0 && o <= s.samples.1
+                })
+                .collect()
+        })
+        .collect();
+    // A sample on a range boundary (a segment without samples repeats its neighbour's index)
+    // belongs to one segment only.
+    for k in 1..assign.len() {
+        let taken: Vec<usize> = assign[..k].iter().flatten().copied().collect();
+        assign[k].retain(|i| !taken.contains(i));
+    }
+    let mut steps: Vec<f64> = points.windows(2).map(|w| w[0].distance(w[1])).collect();
+    steps.sort_by(f64::total_cmp);
+    let spacing = steps.get(steps.len() / 2).copied().unwrap_or(0.0);
+    let max_kappa = (1.0 / (MIN_RADIUS_TOLERANCES * smooth.tolerance))
+        .min(MAX_TURN_PER_SAMPLE / spacing.max(f64::MIN_POSITIVE));
+    let max_log_kappa = max_kappa.ln();
+    let extent = points
+        .iter()
+        .map(|p| p.distance(points[0]))
+        .fold(smooth.tolerance, f64::max);
+    let min_log_kappa = -(MAX_RADIUS_EXTENTS * extent).ln();
+    let (mut layout, mut x) = start_layout(smooth, &mut assign, max_log_kappa)?;
+    let start = chain.segments[0].segment.start();
+    let end = chain.segments.last()?.segment.end();
+    let extent = points
+        .iter()
+        .map(|p| p.distance(start))
+        .fold(start.distance(end), f64::max);
+    let solver = Solver {
+        points,
+        start,
+        end,
+        scale: extent.max(smooth.tolerance),
+        tolerance: smooth.tolerance,
+        chord_error: smooth.chord_error,
+        log_kappa: (min_log_kappa, max_log_kappa),
+        c3: smooth.continuity == Continuity::C3,
+    };
+    layout.clamp(&mut x, solver.log_kappa);
+    greedy_start(&solver, &layout, &mut x, &assign)?;
+    let max_cuts = MAX_CUTS_PER_SEGMENT * chain.segments.len();
+    for _ in 0..=max_cuts {
+        let evaluation = solve(&solver, &layout, &mut x, &mut assign)?;
+        let own: Vec<Vec<f64>> = evaluation
+            .residuals
+            .iter()
+            .map(|r| r.iter().map(|v| v.abs()).collect())
+            .collect();
+        let (worst, at) = worst_sample(&own);
+        if worst <= smooth.tolerance {
+            let nearest = nearest_deviation(
+                points,
+                &evaluation.segments,
+                &assign,
+                &own,
+                smooth.chord_error,
+            );
+            if nearest <= smooth.tolerance {
+                return Some(finish(smooth, &layout, &evaluation, &assign, nearest));
+            }
+        }
+        let k = at?;
+        cut(&mut layout, &mut x, &mut assign, &evaluation, k)?;
+    }
+    None
+}
+
+/// The largest own distance and the segment holding it.
+fn worst_sample(own: &[Vec<f64>]) -> (f64, Option<usize>) {
+    let mut best = (0.0, None);
+    for (k, d) in own.iter().enumerate() {
+        for &v in d {
+            if v > best.0 || best.1.is_none() {
+                best = (v.max(best.0), Some(k));
+            }
+        }
+    }
+    best
+}
+
+/// The layout and starting unknowns from the G1 chain (see the module documentation); `None`
+/// where the α choice cannot make an inflection G2.
+fn start_layout(
+    smooth: &SmoothInput,
+    assign: &mut Vec<Vec<usize>>,
+    max_log_kappa: f64,
+) -> Option<(Layout, Params)> {
+    let segs: Vec<LacSegment> = smooth.chain.segments.iter().map(|s| s.segment).collect();
+    let side = |s: &LacSegment| {
+        let t = s.kappa0() + s.kappa1();
+        if t > 0.0 {
+            1.0
+        } else if t < 0.0 {
+            -1.0
+        } else {
+            0.0
+        }
+    };
+    let n = segs.len();
+    // The B-spline's curvature at each joint (its foot on the B-spline): the G1 chain's two
+    // sides differ there, the B-spline, a C2 curve within the tolerance of the same samples, has
+    // one value.
+    let pieces = Pieces::new(smooth.input.curve.to_beziers());
+    let spline_kappa = |j: usize| -> f64 {
+        let (q, guess) = if j < n {
+            (
+                segs[j].start(),
+                smooth.chain.segments[j].params.map(|p| p.0),
+            )
+        } else {
+            (
+                segs[n - 1].end(),
+                smooth.chain.segments[n - 1].params.map(|p| p.1),
+            )
+        };
+        let guess = guess.unwrap_or_else(|| pieces.domain().0);
+        let foot = pieces.project_local(q, guess);
+        let (_, d1, d2) = pieces.eval_derivs(foot.u);
+        let speed = d1.hypot();
+        if speed > 0.0 {
+            d1.cross(d2) / (speed * speed * speed)
+        } else {
+            0.0
+        }
+    };
+    let mut sigma = Vec::with_capacity(n + 1);
+    let mut u = Vec::with_capacity(n + 1);
+    for j in 0..=n {
+        let (g1, s) = if j == 0 {
+            (segs[0].kappa0().abs(), side(&segs[0]))
+        } else if j == n {
+            (segs[n - 1].kappa1().abs(), side(&segs[n - 1]))
+        } else {
+            let (a, b) = (segs[j - 1].kappa1().abs(), segs[j].kappa0().abs());
+            let (sa, sb) = (side(&segs[j - 1]), side(&segs[j]));
+            if sa * sb <= 0.0 {
+                (0.0, 0.0)
+            } else {
+                let mean = match (a == 0.0, b == 0.0) {
+                    (false, false) => (a * b).sqrt(),
+                    (true, false) => b,
+                    (false, true) => a,
+                    (true, true) => 0.0,
+                };
+                (mean, sa)
+            }
+        };
+        if g1 == 0.0 || s == 0.0 {
+            sigma.push(0.0);
+            u.push(0.0);
+            continue;
+        }
+        let spline = spline_kappa(j);
+        let magnitude = if spline * s > 0.0 { spline.abs() } else { g1 };
+        sigma.push(s);
+        u.push(magnitude.ln());
+    }
+    let mut layout = Layout {
+        sigma,
+        alpha_bounds: Vec::with_capacity(n),
+        max_length: segs
+            .iter()
+            .map(|s| MAX_LENGTH_FACTOR * s.length())
+            .collect(),
+        kinds: smooth.chain.segments.iter().map(|s| s.start).collect(),
+        end_kind: smooth.chain.segments[n - 1].end,
+        origin: (0..n).collect(),
+        targets: segs.iter().map(|s| (s.end(), s.theta1())).collect(),
+    };
+    let mut x = Params {
+        theta0: segs[0].theta0(),
+        u,
+        v: segs.iter().map(|s| s.length().ln()).collect(),
+        alpha: segs.iter().map(|s| s.alpha().unwrap_or(-1.0)).collect(),
+    };
+    for k in 0..n {
+        layout.alpha_bounds.push(None);
+        set_alpha_bounds(smooth.alpha, &mut layout, &mut x, k)?;
+        x.u.iter_mut().for_each(|u| *u = u.min(max_log_kappa));
+        if let Some(bounds) = layout.alpha_bounds[k] {
+            let target = segs[k].theta1() - segs[k].theta0();
+            x.alpha[k] = alpha_for_turning(&layout, &x, k, target, bounds);
+        }
+    }
+    // A curved segment between two zero joints is cut at its middle (it could only be a line).
+    let mut k = 0;
+    while k < layout.n() {
+        let curved = segs
+            .get(layout.origin[k])
+            .is_some_and(|s| s.kappa0() != 0.0 || s.kappa1() != 0.0);
+        if layout.sigma[k] == 0.0 && layout.sigma[k + 1] == 0.0 && curved {
+            let seg = segs[layout.origin[k]];
+            let half = 0.5 * seg.length();
+            let mid = seg.kappa(half);
+            if mid == 0.0 {
+                return None;
+            }
+            let feet: Vec<f64> = {
+                let pts: Vec<Point> = assign[k].iter().map(|&i| smooth.input.points[i]).collect();
+                deviation(&seg, &pts, smooth.chord_error).feet
+            };
+            let pose = (seg.point(half), seg.theta(half));
+            split_at(&mut layout, &mut x, assign, k, (mid, pose), half, &feet);
+            for m in [k, k + 1] {
+                set_alpha_bounds(smooth.alpha, &mut layout, &mut x, m)?;
+            }
+            k += 2;
+        } else {
+            k += 1;
+        }
+    }
+    Some((layout, x))
+}
+
+/// Grid of α values over a segment's bounds on which [`alpha_for_turning`] looks for the
+/// turning closest to its target before bisecting: the turning is monotone in α between the
+/// same end curvatures over the same length in every case tried, the grid only guards the
+/// bracket.
+const TURNING_GRID: usize = 12;
+
+/// Bisection steps of [`alpha_for_turning`]: 2⁻²⁰ of a grid cell.
+const TURNING_BISECTIONS: usize = 20;
+
+/// The α within `bounds` whose segment k (its joints' curvatures and length from `x`) turns
+/// closest to `target`: the starting chain then keeps the G1 chain's tangent at every joint.
+fn alpha_for_turning(
+    layout: &Layout,
+    x: &Params,
+    k: usize,
+    target: f64,
+    bounds: (f64, f64),
+) -> f64 {
+    let turning = |alpha: f64| -> Option<f64> {
+        let mut y = x.clone();
+        y.alpha[k] = alpha;
+        let seg = layout.segment(&y, k, Point::ZERO, 0.0).ok()?;
+        Some(seg.theta1() - target)
+    };
+    let (lo, hi) = bounds;
+    let grid: Vec<(f64, f64)> = (0..=TURNING_GRID)
+        .filter_map(|i| {
+            let a = lo + (hi - lo) * i as f64 / TURNING_GRID as f64;
+            turning(a).map(|t| (a, t))
+        })
+        .collect();
+    let Some(&best) = grid.iter().min_by(|p, q| p.1.abs().total_cmp(&q.1.abs())) else {
+        return x.alpha[k];
+    };
+    let bracket = grid
+        .windows(2)
+        .find(|w| w[0].1 * w[1].1 <= 0.0)
+        .map(|w| (w[0], w[1]));
+    let Some((mut a, mut b)) = bracket else {
+        return best.0;
+    };
+    for _ in 0..TURNING_BISECTIONS {
+        let mid = 0.5 * (a.0 + b.0);
+        let Some(t) = turning(mid) else { break };
+        if t * a.1 <= 0.0 {
+            b = (mid, t);
+        } else {
+            a = (mid, t);
+        }
+    }
+    if a.1.abs() <= b.1.abs() { a.0 } else { b.0 }
+}
+
+/// Sets segment k's α bounds from the choice and its zero ends; `None` when no α is allowed.
+fn set_alpha_bounds(
+    choice: AlphaChoice,
+    layout: &mut Layout,
+    x: &mut Params,
+    k: usize,
+) -> Option<()> {
+    let zero_a = layout.sigma[k] == 0.0;
+    let zero_b = layout.sigma[k + 1] == 0.0;
+    if zero_a && zero_b {
+        layout.alpha_bounds[k] = None;
+        return Some(());
+    }
+    let (lo, hi) = match choice {
+        AlphaChoice::Range { min, max } => (min, max),
+        AlphaChoice::Fixed(a) => (a, a),
+    };
+    let hi = if zero_a || zero_b {
+        hi.min(ZERO_END_ALPHA)
+    } else {
+        hi
+    };
+    if lo > hi {
+        return None;
+    }
+    x.alpha[k] = x.alpha[k].clamp(lo, hi);
+    layout.alpha_bounds[k] = (lo < hi).then_some((lo, hi));
+    Some(())
+}
+
+/// Splits segment k at arc length `at` (curvature `kappa` there) into two segments of the same
+/// α, handing its samples to the halves by their feet.
+fn split_at(
+    layout: &mut Layout,
+    x: &mut Params,
+    assign: &mut Vec<Vec<usize>>,
+    k: usize,
+    (kappa, pose): (f64, (Point, f64)),
+    at: f64,
+    feet: &[f64],
+) {
+    layout.targets.insert(k, pose);
+    let length = x.v[k].exp();
+    let sign = if kappa > 0.0 { 1.0 } else { -1.0 };
+    layout.sigma.insert(k + 1, sign);
+    x.u.insert(k + 1, kappa.abs().ln());
+    x.v[k] = at.ln();
+    x.v.insert(k + 1, (length - at).ln());
+    x.alpha.insert(k + 1, x.alpha[k]);
+    layout.alpha_bounds.insert(k + 1, layout.alpha_bounds[k]);
+    let max = layout.max_length[k];
+    layout.max_length.insert(k + 1, max);
+    layout.kinds.insert(k + 1, JointKind::Subdivision);
+    let origin = layout.origin[k];
+    layout.origin.insert(k + 1, origin);
+    let list = std::mem::take(&mut assign[k]);
+    let mut second = Vec::new();
+    for (i, s) in list.into_iter().zip(feet) {
+        if *s < at {
+            assign[k].push(i);
+        } else {
+            second.push(i);
+        }
+    }
+    assign.insert(k + 1, second);
+}
+
+/// Cuts segment k of the solved chain at its middle; `None` where the middle has no curvature to
+/// give the new joint (a line).
+fn cut(
+    layout: &mut Layout,
+    x: &mut Params,
+    assign: &mut Vec<Vec<usize>>,
+    evaluation: &Evaluation,
+    k: usize,
+) -> Option<()> {
+    let seg = evaluation.segments.get(k)?;
+    let half = 0.5 * seg.length();
+    let kappa = seg.kappa(half);
+    if kappa == 0.0 || !kappa.is_finite() {
+        return None;
+    }
+    let pose = (seg.point(half), seg.theta(half));
+    split_at(
+        layout,
+        x,
+        assign,
+        k,
+        (kappa, pose),
+        half,
+        &evaluation.feet[k],
+    );
+    Some(())
+}
+
+/// Distance from `q` to `segment` (one sample).
+fn distance(solver: &Solver, segment: &LacSegment, q: Point) -> f64 {
+    deviation(segment, &[q], solver.chord_error).max
+}
+
+/// Hands the samples at each joint to the nearer of its two segments (keeping every segment at
+/// least one sample it had); true when any moved.
+fn reassign(solver: &Solver, segments: &[LacSegment], assign: &mut [Vec<usize>]) -> bool {
+    let mut changed = false;
+    for k in 0..segments.len().saturating_sub(1) {
+        while assign[k].len() > 1 {
+            let Some(&i) = assign[k].last() else { break };
+            let q = solver.points[i];
+            if distance(solver, &segments[k + 1], q) < distance(solver, &segments[k], q) {
+                assign[k].pop();
+                assign[k + 1].insert(0, i);
+                changed = true;
+            } else {
+                break;
+            }
+        }
+        while assign[k + 1].len() > 1 {
+            let i = assign[k + 1][0];
+            let q = solver.points[i];
+            if distance(solver, &segments[k], q) < distance(solver, &segments[k + 1], q) {
+                assign[k + 1].remove(0);
+                assign[k].push(i);
+                changed = true;
+            } else {
+                break;
+            }
+        }
+    }
+    changed
+}
+
+/// The residuals of an evaluation as one vector, segment after segment.
+fn residual_vector(e: &Evaluation) -> DVector<f64> {
+    DVector::from_iterator(
+        e.residuals.iter().map(Vec::len).sum(),
+        e.residuals.iter().flatten().copied(),
+    )
+}
+
+/// The Jacobians of the residuals and of the constraints in `vars` (see the module
+/// documentation); `None` where a differenced chain cannot be built.
+fn jacobian(
+    solver: &Solver,
+    layout: &Layout,
+    x: &Params,
+    e: &Evaluation,
+    vars: &[Var],
+    c3_joints: &[usize],
+) -> Option<(DMatrix<f64>, DMatrix<f64>)> {
+    let n = layout.n();
+    let mut offsets = Vec::with_capacity(n + 1);
+    let mut rows = 0;
+    for r in &e.residuals {
+        offsets.push(rows);
+        rows += r.len();
+    }
+    let nc = 2 + if solver.c3 { c3_joints.len() } else { 0 };
+    let mut jr = DMatrix::zeros(rows, vars.len());
+    let mut jc = DMatrix::zeros(nc, vars.len());
+    let end = e.segments[n - 1].end();
+    for (col, &var) in vars.iter().enumerate() {
+        if var == Var::Theta0 {
+            for k in 0..n {
+                for (m, (f, nrm)) in e.foot_points[k].iter().enumerate() {
+                    jr[(offsets[k] + m, col)] = -nrm.dot(perp(*f - solver.start));
+                }
+            }
+            let d = perp(end - solver.start) / solver.scale;
+            jc[(0, col)] = d.x;
+            jc[(1, col)] = d.y;
+            continue;
+        }
+        let (k0, k1) = layout.reach(var);
+        let mut xp = x.clone();
+        set(&mut xp, var, get(x, var) + DIFFERENCE_STEP);
+        let new = layout.rebuild(&xp, &e.segments, k0, k1).ok()?;
+        for k in k0..=k1 {
+            let seg = &new[k - k0];
+            let ratio = seg.length() / e.segments[k].length();
+            let feet: Vec<f64> = e.feet[k].iter().map(|s| s * ratio).collect();
+            let moved = crate::lac::deviation::points_at(seg, &feet);
+            for (m, ((f, nrm), p)) in e.foot_points[k].iter().zip(moved).enumerate() {
+                jr[(offsets[k] + m, col)] = -nrm.dot((p - *f) / DIFFERENCE_STEP);
+            }
+        }
+        let last = &new[k1 - k0];
+        let old_end = e.segments[k1].end();
+        let d_end = (last.end() - old_end) / DIFFERENCE_STEP;
+        let d_theta = (last.theta1() - e.segments[k1].theta1()) / DIFFERENCE_STEP;
+        for k in k1 + 1..n {
+            for (m, (f, nrm)) in e.foot_points[k].iter().enumerate() {
+                let dp = d_end + perp(*f - old_end) * d_theta;
+                jr[(offsets[k] + m, col)] = -nrm.dot(dp);
+            }
+        }
+        let d = (d_end + perp(end - old_end) * d_theta) / solver.scale;
+        jc[(0, col)] = d.x;
+        jc[(1, col)] = d.y;
+        if solver.c3 {
+            let pick = |k: usize| {
+                if (k0..=k1).contains(&k) {
+                    &new[k - k0]
+                } else {
+                    &e.segments[k]
+                }
+            };
+            for (row, &j) in c3_joints.iter().enumerate() {
+                if (k0..=k1).contains(&(j - 1)) || (k0..=k1).contains(&j) {
+                    let before = c3_gap(&e.segments[j - 1], &e.segments[j]);
+                    let after = c3_gap(pick(j - 1), pick(j));
+                    jc[(2 + row, col)] = (after - before) / DIFFERENCE_STEP;
+                }
+            }
+        }
+    }
+    Some((jr, jc))
+}
+
+/// The constraints' Jacobian alone at the chain `segments` of `x`.
+fn constraint_jacobian(
+    solver: &Solver,
+    layout: &Layout,
+    x: &Params,
+    segments: &[LacSegment],
+    vars: &[Var],
+    c3_joints: &[usize],
+) -> Option<DMatrix<f64>> {
+    let n = segments.len();
+    let e = Evaluation {
+        segments: segments.to_vec(),
+        residuals: vec![Vec::new(); n],
+        feet: vec![Vec::new(); n],
+        foot_points: vec![Vec::new(); n],
+        cost: 0.0,
+    };
+    jacobian(solver, layout, x, &e, vars, c3_joints).map(|(_, jc)| jc)
+}
+
+/// `x` moved by `delta` over `vars`.
+fn moved(x: &Params, vars: &[Var], delta: &DVector<f64>) -> Params {
+    let mut out = x.clone();
+    for (i, &var) in vars.iter().enumerate() {
+        set(&mut out, var, get(x, var) + delta[i]);
+    }
+    out
+}
+
+/// Projects `x` onto the constraints by least-norm Newton steps (the constraint Jacobian
+/// recomputed at every step); returns the chain there, or `None` when the steps do not meet the
+/// constraints.
+fn project(
+    solver: &Solver,
+    layout: &Layout,
+    x: &mut Params,
+    vars: &[Var],
+    c3_joints: &[usize],
+) -> Option<Vec<LacSegment>> {
+    for _ in 0..=PROJECTION_STEPS {
+        layout.clamp(x, solver.log_kappa);
+        let segments = layout.build(x, solver.start).ok()?;
+        let c = solver.constraints(&segments, c3_joints);
+        if solver.constraints_met(&c) {
+            return Some(segments);
+        }
+        let jc = constraint_jacobian(solver, layout, x, &segments, vars, c3_joints)?;
+        let gram = (&jc * jc.transpose()).cholesky()?;
+        let step = -(jc.transpose() * gram.solve(&c));
+        *x = moved(x, vars, &step);
+    }
+    None
+}
+
+/// How a Levenberg–Marquardt pass treats the constraints.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum Mode {
+    /// As residuals of weight [`SOFT_WEIGHT`]: from a start far from them (the G1 chain's
+    /// joints averaged to one curvature each land the chain's end away from the piece's end,
+    /// farther the more segments there are), the samples pull the chain back along its whole
+    /// length instead of a projection swinging its end.
+    Soft,
+    /// Exactly: a KKT step with the linearised constraints, projected back onto them.
+    Hard,
+}
+
+/// Weight of the constraint residuals of [`Mode::Soft`]: the end point's miss counts as much as
+/// that many samples missing by as much (and a C3 joint's relative dκ/ds gap as that many
+/// samples missing by the tolerance).
+const SOFT_WEIGHT: f64 = 10.0;
+
+/// The constraint residuals of [`Mode::Soft`] in the samples' length units: the end miss, and the
+/// C3 gaps scaled by the tolerance.
+fn soft_scale(solver: &Solver, row: usize) -> f64 {
+    SOFT_WEIGHT
+        * if row < 2 {
+            solver.scale
+        } else {
+            solver.tolerance
+        }
+}
+
+/// The merit of an evaluation in `mode`: the squared distances, plus the weighted squared
+/// constraint residuals when soft.
+fn merit(solver: &Solver, e: &Evaluation, c3_joints: &[usize], mode: Mode) -> f64 {
+    match mode {
+        Mode::Hard => e.cost,
+        Mode::Soft => {
+            let c = solver.constraints(&e.segments, c3_joints);
+            e.cost
+                + c.iter()
+                    .enumerate()
+                    .map(|(i, v)| (soft_scale(solver, i) * v).powi(2))
+                    .sum::<f64>()
+        }
+    }
+}
+
+/// One Levenberg–Marquardt pass in `mode` from `x` and its evaluation `e`, moving both (and the
+/// samples' assignment); `None` where no chain could be built.
+fn levenberg_marquardt(
+    solver: &Solver,
+    layout: &Layout,
+    x: &mut Params,
+    assign: &mut [Vec<usize>],
+    e: &mut Evaluation,
+    mode: Mode,
+) -> Option<()> {
+    let vars = layout.vars();
+    let c3_joints = layout.c3_joints();
+    let m = vars.len();
+    let mut lambda = INITIAL_DAMPING;
+    let mut current = merit(solver, e, &c3_joints, mode);
+    for _ in 0..MAX_ITERATIONS {
+        let (mut jr, jc) = jacobian(solver, layout, x, e, &vars, &c3_joints)?;
+        let mut r = residual_vector(e);
+        let c = solver.constraints(&e.segments, &c3_joints);
+        if mode == Mode::Soft {
+            let rows = r.len();
+            jr = jr.insert_rows(rows, c.len(), 0.0);
+            r = r.insert_rows(rows, c.len(), 0.0);
+            for i in 0..c.len() {
+                let w = soft_scale(solver, i);
+                r[rows + i] = w * c[i];
+                for col in 0..m {
+                    jr[(rows + i, col)] = w * jc[(i, col)];
+                }
+            }
+        }
+        let nc = if mode == Mode::Hard { c.len() } else { 0 };
+        let a = jr.transpose() * &jr;
+        let g = jr.transpose() * &r;
+        let floor = DIAGONAL_FLOOR * a.diagonal().max().max(f64::MIN_POSITIVE);
+        let mut accepted = None;
+        while lambda <= MAX_DAMPING {
+            let mut kkt = DMatrix::zeros(m + nc, m + nc);
+            kkt.view_mut((0, 0), (m, m)).copy_from(&a);
+            for i in 0..m {
+                kkt[(i, i)] += lambda * a[(i, i)].max(floor);
+            }
+            let mut rhs = DVector::zeros(m + nc);
+            rhs.rows_mut(0, m).copy_from(&(-&g));
+            if nc > 0 {
+                kkt.view_mut((m, 0), (nc, m)).copy_from(&jc);
+                kkt.view_mut((0, m), (m, nc)).copy_from(&jc.transpose());
+                rhs.rows_mut(m, nc).copy_from(&(-&c));
+            }
+            let Some(step) = kkt.lu().solve(&rhs) else {
+                lambda *= DAMPING_INCREASE;
+                continue;
+            };
+            let mut trial = moved(x, &vars, &step.rows(0, m).into_owned());
+            let segments = match mode {
+                Mode::Hard => project(solver, layout, &mut trial, &vars, &c3_joints),
+                Mode::Soft => {
+                    layout.clamp(&mut trial, solver.log_kappa);
+                    layout.build(&trial, solver.start).ok()
+                }
+            };
+            let Some(segments) = segments else {
+                lambda *= DAMPING_INCREASE;
+                continue;
+            };
+            let t = solver.evaluate(segments, assign, Some((e, assign)));
+            let value = merit(solver, &t, &c3_joints, mode);
+            if value < current {
+                accepted = Some((trial, t, value));
+                lambda /= DAMPING_DECREASE;
+                break;
+            }
+            lambda *= DAMPING_INCREASE;
+        }
+        let Some((trial, t, value)) = accepted else {
+            break;
+        };
+        let decrease = current - value;
+        let before = current;
+        *x = trial;
+        *e = t;
+        current = value;
+        if reassign(solver, &e.segments, assign) {
+            *e = solver.evaluate(e.segments.clone(), assign, None);
+            current = merit(solver, e, &c3_joints, mode);
+        } else if decrease <= RELATIVE_DECREASE * before {
+            break;
+        }
+    }
+    Some(())
+}
+
+/// Iterations of each segment's solve in [`greedy_start`].
+const GREEDY_ITERATIONS: usize = 12;
+
+/// An angle difference brought into (−π, π] (the G1 chain's segments keep their own angles
+/// in (−π, π]; a smooth chain's run on continuously).
+fn wrap_angle(a: f64) -> f64 {
+    let (s, c) = a.sin_cos();
+    s.atan2(c)
+}
+
+/// The signed distance of a sample from its distance and side.
+fn signed(distance: f64, side: f64) -> f64 {
+    if side < 0.0 { -distance } else { distance }
+}
+
+/// The starting chain built segment by segment: each from the end pose of the one before, with
+/// its length, α and end curvature fitted to its own samples and to the end pose the G1 chain
+/// has there (`Layout::targets`, weighted as [`SOFT_WEIGHT`] samples). Laid out forward without
+/// that anchoring, a chain drifts: every joint's averaged curvature turns the rest of the chain
+/// (seen: 30 px off on a 200 px spring whose G1 chain starts with a hook).
+fn greedy_start(
+    solver: &Solver,
+    layout: &Layout,
+    x: &mut Params,
+    assign: &[Vec<usize>],
+) -> Option<Vec<LacSegment>> {
+    let n = layout.n();
+    let mut segments = Vec::with_capacity(n);
+    let (mut p, mut theta) = (solver.start, x.theta0);
+    for k in 0..n {
+        let (target, phi) = layout.targets[k];
+        let length0 = x.v[k].exp();
+        let pts = solver.points_of(&assign[k]);
+        let mut vars = vec![Var::Length(k)];
+        if k == 0 && layout.sigma[0] != 0.0 {
+            vars.push(Var::Joint(0));
+        }
+        if layout.alpha_bounds[k].is_some() {
+            vars.push(Var::Alpha(k));
+        }
+        if layout.sigma[k + 1] != 0.0 {
+            vars.push(Var::Joint(k + 1));
+        }
+        let residuals = |y: &Params| -> Option<DVector<f64>> {
+            let seg = layout.segment(y, k, p, theta).ok()?;
+            let d = deviation(&seg, &pts, solver.chord_error);
+            let mut r: Vec<f64> = d
+                .distances
+                .iter()
+                .zip(&d.sides)
+                .map(|(d, s)| signed(*d, *s))
+                .collect();
+            let miss = seg.end() - target;
+            r.push(SOFT_WEIGHT * miss.x);
+            r.push(SOFT_WEIGHT * miss.y);
+            r.push(SOFT_WEIGHT * length0 * wrap_angle(seg.theta1() - phi));
+            Some(DVector::from_vec(r))
+        };
+        let mut r = residuals(x)?;
+        let mut lambda = INITIAL_DAMPING;
+        for _ in 0..GREEDY_ITERATIONS {
+            let mut jac = DMatrix::zeros(r.len(), vars.len());
+            for (col, &var) in vars.iter().enumerate() {
+                let mut y = x.clone();
+                set(&mut y, var, get(x, var) + DIFFERENCE_STEP);
+                if let Some(ry) = residuals(&y) {
+                    jac.set_column(col, &((ry - &r) / DIFFERENCE_STEP));
+                }
+            }
+            let a = jac.transpose() * &jac;
+            let g = jac.transpose() * &r;
+            let floor = DIAGONAL_FLOOR * a.diagonal().max().max(f64::MIN_POSITIVE);
+            let mut accepted = None;
+            while lambda <= MAX_DAMPING {
+                let mut damped = a.clone();
+                for i in 0..vars.len() {
+                    damped[(i, i)] += lambda * a[(i, i)].max(floor);
+                }
+                let Some(step) = damped.lu().solve(&(-&g)) else {
+                    lambda *= DAMPING_INCREASE;
+                    continue;
+                };
+                let mut y = moved(x, &vars, &step);
+                layout.clamp(&mut y, solver.log_kappa);
+                match residuals(&y) {
+                    Some(ry) if ry.norm_squared() < r.norm_squared() => {
+                        accepted = Some((y, ry));
+                        lambda /= DAMPING_DECREASE;
+                        break;
+                    }
+                    _ => lambda *= DAMPING_INCREASE,
+                }
+            }
+            let Some((y, ry)) = accepted else { break };
+            let decrease = r.norm_squared() - ry.norm_squared();
+            let before = r.norm_squared();
+            *x = y;
+            r = ry;
+            if decrease <= RELATIVE_DECREASE * before {
+                break;
+            }
+        }
+        let seg = layout.segment(x, k, p, theta).ok()?;
+        p = seg.end();
+        theta = seg.theta1();
+        segments.push(seg);
+    }
+    Some(segments)
+}
+
+/// The constrained fit from `x`: a soft pass that brings the chain to its samples and near its
+/// constraints, then the exact pass (see [`Mode`]); the final chain's evaluation, or `None` where
+/// no chain meeting the constraints could be built.
+fn solve(
+    solver: &Solver,
+    layout: &Layout,
+    x: &mut Params,
+    assign: &mut [Vec<usize>],
+) -> Option<Evaluation> {
+    let vars = layout.vars();
+    let c3_joints = layout.c3_joints();
+    layout.clamp(x, solver.log_kappa);
+    let segments = layout.build(x, solver.start).ok()?;
+    let mut e = solver.evaluate(segments, assign, None);
+    if reassign(solver, &e.segments, assign) {
+        e = solver.evaluate(e.segments.clone(), assign, None);
+    }
+    levenberg_marquardt(solver, layout, x, assign, &mut e, Mode::Soft)?;
+    let segments = project(solver, layout, x, &vars, &c3_joints)?;
+    e = solver.evaluate(segments, assign, None);
+    levenberg_marquardt(solver, layout, x, assign, &mut e, Mode::Hard)?;
+    Some(e)
+}
+
+/// The chain record of a solved smooth chain.
+fn finish(
+    smooth: &SmoothInput,
+    layout: &Layout,
+    e: &Evaluation,
+    assign: &[Vec<usize>],
+    max_deviation: f64,
+) -> Chain {
+    let input = smooth.input;
+    let starts: Vec<Option<usize>> = assign
+        .iter()
+        .map(|l| l.iter().map(|&i| input.indices[i]).min())
+        .collect();
+    let ranges = tile_ranges(&starts, input.samples);
+    let n = layout.n();
+    let segments = (0..n)
+        .map(|k| {
+            let r = &e.residuals[k];
+            let max = r.iter().fold(0.0_f64, |m, v| m.max(v.abs()));
+            let rms = if r.is_empty() {
+                0.0
+            } else {
+                (r.iter().map(|v| v * v).sum::<f64>() / r.len() as f64).sqrt()
+            };
+            let params = assign[k].iter().map(|&i| input.params[i]).fold(
+                None,
+                |acc: Option<(f64, f64)>, u| {
+                    Some(acc.map_or((u, u), |(lo, hi)| (lo.min(u), hi.max(u))))
+                },
+            );
+            ChainSegment {
+                segment: e.segments[k],
+                samples: ranges[k],
+                max_deviation: max,
+                rms_deviation: rms,
+                search: smooth.chain.segments[layout.origin[k]].search.clone(),
+                start: layout.kinds[k],
+                end: if k + 1 < n {
+                    layout.kinds[k + 1]
+                } else {
+                    layout.end_kind
+                },
+                params,
+            }
+        })
+        .collect();
+    Chain {
+        segments,
+        max_deviation,
+        within_tolerance: max_deviation <= smooth.tolerance,
+        refined: smooth.chain.refined,
+    }
+}

@@ -1,0 +1,224 @@
+//! Curvature-continuous chains (`Continuity::G2`, `C3`) against planted G2 chains.
+//!
+//! A planted chain of log-aesthetic segments joined with equal curvature is sampled as a pen
+//! would draw it (light noise) or as a mouse would (whole-pixel coordinates); the smooth fit must
+//! give a chain whose joints are curvature-continuous to rounding (1e-9 relative), every sample
+//! within the tolerance, and a curve close to the planted one itself (not only to its samples).
+
+mod common;
+
+use common::Rng;
+use kansei::chain::{Chain, Continuity};
+use kansei::geom::{Point, Vec2};
+use kansei::lac::LacSegment;
+use kansei::pipeline::{PipelineOptions, fit_stroke};
+use kansei::stroke::{Sample, Stroke};
+
+/// Relative curvature jump accepted at a G2 joint: the joint's curvature is one parameter
+/// shared by both segments, so only the evaluation's rounding separates the two sides.
+const G2_JUMP: f64 = 1e-9;
+
+/// A chain laid out from the origin: each (length, α, κ at its end), starting at `kappa0`.
+fn planted(kappa0: f64, parts: &[(f64, Option<f64>, f64)]) -> Vec<LacSegment> {
+    let (mut p, mut theta, mut kappa) = (Point::ZERO, 0.0, kappa0);
+    parts
+        .iter()
+        .map(|&(length, alpha, k1)| {
+            let seg = LacSegment::new(p, theta, length, alpha, kappa, k1).expect("planted segment");
+            p = seg.end();
+            theta = seg.theta1();
+            kappa = k1;
+            seg
+        })
+        .collect()
+}
+
+/// `n` samples evenly spaced in arc length along the chain, through `quantise`.
+fn samples(chain: &[LacSegment], n: usize, mut quantise: impl FnMut(Point) -> Point) -> Stroke {
+    let total: f64 = chain.iter().map(|s| s.length()).sum();
+    let points: Vec<Point> = (0..=n)
+        .map(|i| {
+            let mut s = total * i as f64 / n as f64;
+            for seg in chain {
+                if s <= seg.length() {
+                    return quantise(seg.point(s));
+                }
+                s -= seg.length();
+            }
+            quantise(chain[chain.len() - 1].end())
+        })
+        .collect();
+    Stroke::new(
+        points
+            .iter()
+            .enumerate()
+            .map(|(i, p)| Sample::new(p.x, p.y).with_t(i as f64 * 0.008))
+            .collect(),
+    )
+}
+
+/// Distance from `q` to the planted chain (dense polyline; the chord error at these curvatures
+/// and spacing is below 1e-4).
+fn distance_to(chain: &[LacSegment], q: Point) -> f64 {
+    let mut best = f64::INFINITY;
+    for seg in chain {
+        let pts: Vec<Point> = seg.samples(0.05).map(|s| s.point).collect();
+        for w in pts.windows(2) {
+            let ab = w[1] - w[0];
+            let t = ((q - w[0]).dot(ab) / ab.hypot2()).clamp(0.0, 1.0);
+            best = best.min(q.distance(w[0] + ab * t));
+        }
+    }
+    best
+}
+
+fn fit(stroke: &Stroke, tolerance: f64, continuity: Continuity) -> Vec<Chain> {
+    let mut options = PipelineOptions::default();
+    options.chain.continuity = continuity;
+    fit_stroke(stroke, 0, tolerance, &options)
+        .expect("fit")
+        .into_iter()
+        .map(|f| f.chain.expect("a chain"))
+        .collect()
+}
+
+/// Largest relative curvature jump at the chain's interior joints.
+fn largest_jump(chain: &Chain) -> f64 {
+    chain
+        .segments
+        .windows(2)
+        .map(|w| {
+            let (a, b) = (w[0].segment.kappa1(), w[1].segment.kappa0());
+            let scale = a.abs().max(b.abs());
+            if scale == 0.0 {
+                0.0
+            } else {
+                (a - b).abs() / scale
+            }
+        })
+        .fold(0.0, f64::max)
+}
+
+/// The fitted chain's points against the planted chain: the largest distance.
+fn distance_from_planted(chain: &Chain, truth: &[LacSegment]) -> f64 {
+    chain
+        .segments
+        .iter()
+        .flat_map(|s| s.segment.samples(1.0).map(|p| p.point).collect::<Vec<_>>())
+        .map(|p| distance_to(truth, p))
+        .fold(0.0, f64::max)
+}
+
+fn check(name: &str, truth: &[LacSegment], stroke: &Stroke, tolerance: f64, near: f64) {
+    let chains = fit(stroke, tolerance, Continuity::G2);
+    assert_eq!(chains.len(), 1, "{name}: one piece");
+    let chain = &chains[0];
+    assert!(
+        chain.within_tolerance && chain.max_deviation <= tolerance,
+        "{name}: deviation {}",
+        chain.max_deviation
+    );
+    let jump = largest_jump(chain);
+    assert!(
+        jump <= G2_JUMP,
+        "{name}: curvature jump {jump} with {} segments",
+        chain.segments.len()
+    );
+    // Position and tangent are continuous too (the chain is laid out forward).
+    for w in chain.segments.windows(2) {
+        let gap = w[0].segment.end().distance(w[1].segment.start());
+        assert!(
+            gap <= 1e-9 * (1.0 + w[1].segment.start().to_vec2().hypot()),
+            "{name}: gap {gap}"
+        );
+        let turn = (w[0].segment.theta1() - w[1].segment.theta0()).sin().abs();
+        assert!(turn <= 1e-9, "{name}: tangent break {turn}");
+    }
+    let off = distance_from_planted(chain, truth);
+    assert!(off <= near, "{name}: {off} from the planted chain");
+}
+
+#[test]
+fn a_planted_c_with_light_noise_comes_back_curvature_continuous() {
+    let truth = planted(
+        0.004,
+        &[(150.0, Some(0.5), 0.02), (120.0, Some(-1.0), 0.006)],
+    );
+    let mut rng = Rng::new(3);
+    let stroke = samples(&truth, 300, |p| {
+        p + Vec2::new(0.05 * rng.normal(), 0.05 * rng.normal())
+    });
+    check("C, noise 0.05", &truth, &stroke, 0.5, 0.5);
+}
+
+#[test]
+fn a_planted_s_through_an_inflection_comes_back_curvature_continuous() {
+    let truth = planted(
+        0.015,
+        &[(120.0, Some(-1.0), 0.0), (120.0, Some(-1.0), -0.015)],
+    );
+    let mut rng = Rng::new(7);
+    let stroke = samples(&truth, 300, |p| {
+        p + Vec2::new(0.05 * rng.normal(), 0.05 * rng.normal())
+    });
+    check("S, noise 0.05", &truth, &stroke, 0.5, 0.5);
+}
+
+#[test]
+fn a_planted_c_on_a_pixel_grid_comes_back_curvature_continuous() {
+    let truth = planted(
+        0.004,
+        &[(150.0, Some(0.5), 0.02), (120.0, Some(-1.0), 0.006)],
+    );
+    let stroke = samples(&truth, 270, |p| {
+        Point::new((p.x + 100.3).round(), (p.y + 50.6).round())
+    });
+    let shifted: Vec<LacSegment> = truth
+        .iter()
+        .map(|s| {
+            LacSegment::new(
+                s.start() + Vec2::new(100.3, 50.6),
+                s.theta0(),
+                s.length(),
+                s.alpha(),
+                s.kappa0(),
+                s.kappa1(),
+            )
+            .expect("shifted")
+        })
+        .collect();
+    // The grid moves samples by up to 0.71 px: at a 1 px tolerance the chain stays within it
+    // of its samples, so within 1.71 px of the planted curve.
+    check("C, whole pixels", &shifted, &stroke, 1.0, 1.71);
+}
+
+#[test]
+fn g1_is_the_seed_papers_chain_and_g2_never_loses_the_tolerance() {
+    // The same stroke in both modes: G1 is untouched by the smooth fit; G2 holds the tolerance.
+    let truth = planted(
+        0.004,
+        &[(150.0, Some(0.5), 0.02), (120.0, Some(-1.0), 0.006)],
+    );
+    let mut rng = Rng::new(9);
+    let stroke = samples(&truth, 300, |p| {
+        p + Vec2::new(0.2 * rng.normal(), 0.2 * rng.normal())
+    });
+    for continuity in [Continuity::G1, Continuity::G2, Continuity::C3] {
+        for chain in fit(&stroke, 0.5, continuity) {
+            assert!(
+                chain.within_tolerance,
+                "{continuity}: deviation {}",
+                chain.max_deviation
+            );
+        }
+    }
+}
+
+#[test]
+fn continuity_names_round_trip() {
+    for name in Continuity::NAMES {
+        let c: Continuity = name.parse().expect("a name");
+        assert_eq!(c.name(), name);
+    }
+    assert!("g3".parse::<Continuity>().is_err());
+}
