@@ -113,6 +113,11 @@ fn check(name: &str, truth: &[LacSegment], stroke: &Stroke, tolerance: f64, near
     let chains = fit(stroke, tolerance, Continuity::G2);
     assert_eq!(chains.len(), 1, "{name}: one piece");
     let chain = &chains[0];
+    assert_eq!(
+        chain.continuity,
+        Continuity::G2,
+        "{name}: the smooth fit held"
+    );
     assert!(
         chain.within_tolerance && chain.max_deviation <= tolerance,
         "{name}: deviation {}",
@@ -205,6 +210,9 @@ fn g1_is_the_seed_papers_chain_and_g2_never_loses_the_tolerance() {
     });
     for continuity in [Continuity::G1, Continuity::G2, Continuity::C3] {
         for chain in fit(&stroke, 0.5, continuity) {
+            if continuity == Continuity::G1 {
+                assert_eq!(chain.continuity, Continuity::G1);
+            }
             assert!(
                 chain.within_tolerance,
                 "{continuity}: deviation {}",

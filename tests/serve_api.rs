@@ -238,7 +238,7 @@ fn bad_input_is_refused_with_the_command_lines_message() {
     // Options as `kansei fit` checks them.
     for (query, words) in [
         ("tolerance=-1", "tolerance must be a positive number"),
-        ("continuity=g2", "continuity must be one of g1"),
+        ("continuity=g3", "continuity must be one of g1, g2, c3"),
         ("alpha=1&alpha_range=0:1", "cannot be used together"),
         ("bogus=1", "unknown query parameter \"bogus\""),
     ] {

@@ -173,6 +173,8 @@ pub struct Chain {
     pub within_tolerance: bool,
     /// Whether Levenberg–Marquardt refinement ran.
     pub refined: bool,
+    /// The continuity its smooth joints hold.
+    pub continuity: Continuity,
 }
 
 /// Why a chain could not be built.
@@ -1107,6 +1109,7 @@ impl<'a> Fitter<'a> {
             max_deviation,
             within_tolerance: max_deviation <= self.tolerance,
             refined: self.options.refine,
+            continuity: Continuity::G1,
         })
     }
 

@@ -1380,5 +1380,6 @@ fn finish(
         max_deviation,
         within_tolerance: max_deviation <= smooth.tolerance,
         refined: smooth.chain.refined,
+        continuity: smooth.continuity,
     }
 }

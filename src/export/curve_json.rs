@@ -247,6 +247,10 @@ pub struct ChainRecord {
     pub within_tolerance: bool,
     /// Whether joints and α were refined by Levenberg–Marquardt.
     pub refined: bool,
+    /// The continuity the chain holds at its smooth joints (`g1`, or the `g2`/`c3` asked for
+    /// where the smooth fit held the tolerance); absent in documents written before it existed.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub continuity: Option<crate::chain::Continuity>,
 }
 
 /// One log-aesthetic segment: the canonical record (`start` … `theta1`) and its fit.
@@ -518,6 +522,7 @@ impl CurveEntry {
                 max_deviation: c.max_deviation,
                 within_tolerance: c.within_tolerance,
                 refined: c.refined,
+                continuity: Some(c.continuity),
             }),
             segments: chain
                 .map(|c| {
