@@ -140,6 +140,11 @@ pub const MAX_LENGTH_FACTOR: f64 = 10.0;
 /// than this is following noise the G1 chain already represents.
 pub const MAX_CUTS_PER_SEGMENT: usize = 2;
 
+/// Cuts in a row that do not bring the worst sample nearer before the smooth fit gives up (the
+/// G1 chain is kept): the samples then ask for a curvature jump no cut resolves (a hook, a
+/// needle of the pen), and more cuts only cost time (a 9-curve scribble took 42 s without this).
+const STALLED_CUTS: usize = 3;
+
 /// Iterations of one Levenberg–Marquardt solve. Each accepted step lowers the squared distances;
 /// from the G1 chain, 10–20 steps reach the minimum to the stopping rule below.
 const MAX_ITERATIONS: usize = 40;
@@ -561,6 +566,7 @@ pub(crate) fn smooth_chain(smooth: &SmoothInput) -> Option<Chain> {
     layout.clamp(&mut x, solver.log_kappa);
     greedy_start(&solver, &layout, &mut x, &assign)?;
     let max_cuts = MAX_CUTS_PER_SEGMENT * chain.segments.len();
+    let (mut best_worst, mut stalled) = (f64::INFINITY, 0);
     for _ in 0..=max_cuts {
         let evaluation = solve(&solver, &layout, &mut x, &mut assign)?;
         let own: Vec<Vec<f64>> = evaluation
@@ -579,6 +585,15 @@ pub(crate) fn smooth_chain(smooth: &SmoothInput) -> Option<Chain> {
             );
             if nearest <= smooth.tolerance {
                 return Some(finish(smooth, &layout, &evaluation, &assign, nearest));
+            }
+        }
+        if worst < best_worst {
+            best_worst = worst;
+            stalled = 0;
+        } else {
+            stalled += 1;
+            if stalled >= STALLED_CUTS {
+                return None;
             }
         }
         let k = at?;
