@@ -1,35 +1,44 @@
 //! Curvature-continuous chains: one curvature per joint (G2) and, on request, one dκ/ds per joint
 //! as well (C3, the compound rhythm of Ziatdinov, Miura et al.).
 //!
-//! ## Parametrisation: continuity by construction
-//! A chain of n segments is laid out forward from its start point P₀ (fixed: the piece's start,
-//! a corner shared with the previous piece or the stroke's first point):
+//! ## Two forms of the same chain
+//! A chain of n segments is fixed by one signed curvature per joint, κⱼ = σⱼ·e^{uⱼ}
+//! (j = 0..n, the sign σⱼ fixed and the log-magnitude uⱼ free, or κⱼ = 0 held fixed at an
+//! *inflection joint*, below), and per segment its length Sₖ = e^{vₖ} and its αₖ. Segment k is
+//! the LAC with end curvatures κₖ, κₖ₊₁: the curvature of two neighbours at their joint is the
+//! one number κₖ₊₁, so G2 holds exactly, not to a tolerance. Where the segments sit is said in
+//! one of two ways:
 //!
-//! * the start tangent angle θ₀;
-//! * one signed curvature per joint, κⱼ = σⱼ·e^{uⱼ} (j = 0..n), with the sign σⱼ fixed and the
-//!   log-magnitude uⱼ free, or κⱼ = 0 held fixed at an *inflection joint* (below);
-//! * per segment its length Sₖ = e^{vₖ} and its αₖ.
+//! * *forward*: the chain is laid out from its start point P₀ (fixed: the piece's start, a
+//!   corner shared with the previous piece or the stroke's first point) and start angle θ₀,
+//!   each segment from the end pose of the one before. Position and tangent continuity hold by
+//!   construction too; the only position constraint left is the end point Pₑ. There are
+//!   1 + (n + 1) + 2n unknowns, one per interior joint fewer than a G1 chain's, as G2 requires.
+//!   But every joint turns the rest of the chain: a parameter near the start swings the end,
+//!   and the fit crawls (a 200 px spring drifted 30 px from its samples).
+//! * *shooting*: every segment has its own start pose (Pₖ, θₖ; P₀ fixed), and the joints'
+//!   positions and tangents are equality constraints (three per joint, two for Pₑ). A parameter
+//!   moves one segment, two for a joint's curvature: as well conditioned on fifty segments as on
+//!   two.
 //!
-//! Segment k is the LAC from the end pose of segment k − 1 with end curvatures κₖ, κₖ₊₁: the
-//! curvature of two neighbours at their joint is the one number κₖ₊₁, so G2 holds exactly, not to
-//! a tolerance. There are 1 + (n + 1) + 2n unknowns (fewer at inflections and lines), against
-//! 3(n + 1) + n for a G1 chain: one per interior joint fewer, as G2 requires.
+//! The fit runs in the shooting form; its answer is then moved into the forward form by a few
+//! Newton steps on the end point, so that joints meet exactly in the final chain.
 //!
 //! ## The fit: constrained Levenberg–Marquardt
 //! The unknowns minimise Σ rᵢ², rᵢ the signed distance from sample i to its segment, subject to
-//! the chain ending at the piece's end point Pₑ (two equations) and, for C3, to
-//! dκ/ds⁻ = dκ/ds⁺ at every interior joint with κ ≠ 0 (one equation each). Each step solves the
-//! damped Gauss–Newton system with the linearised constraints (a KKT system, Marquardt's
-//! scaling) and is then projected back onto the constraints by Newton steps of least norm, so
-//! every iterate is a chain that meets them. The Jacobian is exact in structure and cheap:
-//! a parameter of segment k reshapes at most segments k − 1 and k (differenced, at the samples'
-//! foot points), and moves every later segment rigidly with the end pose of the last reshaped
-//! one, so a later sample's distance changes by −n·(δE + δθ·(f − E)^⊥) (f its foot, n the
-//! normal there, E the end point). Samples near a joint are handed to the neighbour that is
-//! nearer after every accepted step: a joint slides along the data as the fit moves it.
+//! the constraints and, for C3, to dκ/ds⁻ = dκ/ds⁺ at every interior joint with κ ≠ 0. Each step
+//! solves the damped Gauss–Newton system with the linearised constraints (a KKT system,
+//! Marquardt's scaling; an unknown on its bound that the step would push beyond it is held) and
+//! is projected back onto the constraints by least-norm Newton steps, so every iterate is a
+//! chain that meets them. The Jacobian: a change of one unknown rebuilds its one or two
+//! segments, differenced at the samples' foot points. Samples near a joint are handed to the
+//! neighbour that is nearer after every accepted step: a joint slides along the data as the fit
+//! moves it.
 //!
-//! Starting point: the G1 chain (its joints' positions, tangents, curvatures and α). A joint's
-//! curvature starts at the geometric mean of the two sides' (they differ at a G1 joint).
+//! Starting point: the G1 chain (its joints' poses, lengths and α). A joint's curvature starts
+//! at the B-spline's there (the G1 chain's two sides differ, the C2 B-spline within the
+//! tolerance of the same samples has one value), each α at the one that keeps the G1 segment's
+//! turning.
 //!
 //! ## Inflections and lines
 //! A log-aesthetic segment with α ≥ 0 cannot reach κ = 0 at a finite point, so where the chain
@@ -46,7 +55,7 @@
 //! [`MAX_LENGTH_FACTOR`] times its starting length. When the solved chain leaves a sample
 //! farther than the tolerance from its nearest segment, the segment holding the worst sample is
 //! cut at its middle (a new joint with that point's curvature) and the fit runs again, at most
-//! [`MAX_CUTS_PER_SEGMENT`] times per starting segment. When that is not enough (or a step
+//! [`MAX_CUT_ROUNDS`] rounds. When that is not enough (or a step
 //! cannot be built at all) the G1 chain is kept.
 
 use super::fit::{Chain, ChainInput, ChainSegment, JointKind, nearest_deviation, tile_ranges};
@@ -135,15 +144,22 @@ pub const MAX_RADIUS_EXTENTS: f64 = 1e6;
 /// refused.
 pub const MAX_LENGTH_FACTOR: f64 = 10.0;
 
-/// Cuts allowed per segment of the starting chain before the smooth fit gives up (the G1 chain
-/// is kept): each cut adds two unknowns where the samples ask for them; a fit that needs more
-/// than this is following noise the G1 chain already represents.
-pub const MAX_CUTS_PER_SEGMENT: usize = 2;
+/// Most segments of a chain the smooth fit solves (beyond, the G1 chain is kept). Its KKT
+/// system is solved dense: about nine rows per segment (six unknowns, three joint equations),
+/// so 40 segments are a 360-row LU per trial step, a few milliseconds; at 100 segments one
+/// solve took seconds (a scribble's 90-segment curves: two minutes for the file). A banded
+/// solve (the system is block-tridiagonal in the segments) will lift this.
+pub const MAX_SEGMENTS: usize = 40;
 
-/// Cuts in a row that do not bring the worst sample nearer before the smooth fit gives up (the
-/// G1 chain is kept): the samples then ask for a curvature jump no cut resolves (a hook, a
-/// needle of the pen), and more cuts only cost time (a 9-curve scribble took 42 s without this).
-const STALLED_CUTS: usize = 3;
+/// Rounds of cutting (every segment that misses the tolerance, at its middle) before the
+/// smooth fit gives up and the G1 chain is kept; it also gives up after a round that does not
+/// bring the worst sample nearer. Six rounds can cut a segment into 64, as the G1 chain's
+/// subdivision can ([`super::ChainOptions::max_depth`]).
+pub const MAX_CUT_ROUNDS: usize = 6;
+
+/// An unknown within this of its bound (α, a log-curvature, a log-length: all dimensionless)
+/// is on it.
+const BOUND_SLACK: f64 = 1e-9;
 
 /// Iterations of one Levenberg–Marquardt solve. Each accepted step lowers the squared distances;
 /// from the G1 chain, 10–20 steps reach the minimum to the stopping rule below.
@@ -151,7 +167,7 @@ const MAX_ITERATIONS: usize = 40;
 
 /// The solve stops when an accepted step lowers the sum of squared distances by less than this
 /// fraction: the distances then move by far less than the chord error.
-const RELATIVE_DECREASE: f64 = 1e-6;
+const RELATIVE_DECREASE: f64 = 1e-3;
 
 /// Forward-difference step of the unknowns (angles in radians, logs of curvatures and lengths,
 /// α): 1e-6 is √ε times the relative accuracy of the evaluation (~1e-12), the step that
@@ -205,6 +221,8 @@ pub(crate) struct SmoothInput<'a> {
 #[derive(Clone, Debug)]
 struct Params {
     theta0: f64,
+    /// Each segment's own start point and tangent angle (the shooting form, see [`Form`]).
+    pose: Vec<(Point, f64)>,
     /// Log-magnitude of each joint's curvature (unused at zero joints).
     u: Vec<f64>,
     /// Log-length of each segment.
@@ -217,6 +235,10 @@ struct Params {
 #[derive(Clone, Copy, Debug, PartialEq)]
 enum Var {
     Theta0,
+    /// Segment k's start x, y and tangent angle (the shooting form).
+    X(usize),
+    Y(usize),
+    Angle(usize),
     Joint(usize),
     Length(usize),
     Alpha(usize),
@@ -236,9 +258,20 @@ struct Layout {
     end_kind: JointKind,
     /// The α search record carried from the G1 segment each segment comes from.
     origin: Vec<usize>,
-    /// Per segment: the end point and tangent angle the G1 chain has there (see
-    /// [`greedy_start`]).
-    targets: Vec<(Point, f64)>,
+}
+
+/// How the unknowns lay out a chain.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum Form {
+    /// Multiple shooting: every segment from its own start pose, the joints' positions and
+    /// tangents as equality constraints. A parameter moves one or two segments only, so the
+    /// problem is as well conditioned on a 50-segment chain as on a 2-segment one; this is the
+    /// form the fit runs in.
+    Shooting,
+    /// Forward: the chain laid out from its start pose, continuity by construction; the end
+    /// point the only position constraint. The fit's answer is moved into it by a few Newton
+    /// steps at the end, so that joints meet exactly, not to a tolerance.
+    Forward,
 }
 
 impl Layout {
@@ -260,6 +293,49 @@ impl Layout {
                 .map(Var::Alpha),
         );
         vars
+    }
+
+    /// The shooting form's unknowns.
+    fn shooting_vars(&self) -> Vec<Var> {
+        let mut vars: Vec<Var> = (0..self.n()).map(Var::Angle).collect();
+        vars.extend((1..self.n()).flat_map(|k| [Var::X(k), Var::Y(k)]));
+        vars.extend(self.vars().into_iter().skip(1));
+        vars
+    }
+
+    fn vars_of(&self, form: Form) -> Vec<Var> {
+        match form {
+            Form::Shooting => self.shooting_vars(),
+            Form::Forward => self.vars(),
+        }
+    }
+
+    /// Every segment from its own start pose.
+    fn build_shooting(&self, x: &Params) -> Result<Vec<LacSegment>, LacError> {
+        (0..self.n())
+            .map(|k| self.segment(x, k, x.pose[k].0, x.pose[k].1))
+            .collect()
+    }
+
+    fn build_form(
+        &self,
+        form: Form,
+        x: &Params,
+        start: Point,
+    ) -> Result<Vec<LacSegment>, LacError> {
+        match form {
+            Form::Shooting => self.build_shooting(x),
+            Form::Forward => self.build(x, start),
+        }
+    }
+
+    /// The segments a change of `var` reshapes in the shooting form.
+    fn shooting_reach(&self, var: Var) -> (usize, usize) {
+        match var {
+            Var::Theta0 => (0, 0),
+            Var::X(k) | Var::Y(k) | Var::Angle(k) | Var::Length(k) | Var::Alpha(k) => (k, k),
+            Var::Joint(j) => (j.saturating_sub(1), j.min(self.n() - 1)),
+        }
     }
 
     fn kappa(&self, x: &Params, j: usize) -> f64 {
@@ -321,13 +397,28 @@ impl Layout {
         match var {
             Var::Theta0 => (0, self.n() - 1),
             Var::Joint(j) => (j.saturating_sub(1), j.min(self.n() - 1)),
-            Var::Length(k) | Var::Alpha(k) => (k, k),
+            Var::Length(k) | Var::Alpha(k) | Var::X(k) | Var::Y(k) | Var::Angle(k) => (k, k),
         }
     }
 
     /// Interior joints whose dκ/ds is constrained (C3): the non-zero ones.
     fn c3_joints(&self) -> Vec<usize> {
         (1..self.n()).filter(|&j| self.sigma[j] != 0.0).collect()
+    }
+
+    /// Whether `var` sits on its bound in `x` with `direction` (the sign of a step) pointing
+    /// beyond it.
+    fn pushed_beyond(&self, var: Var, x: &Params, direction: f64, log_kappa: (f64, f64)) -> bool {
+        let at = |value: f64, lo: f64, hi: f64| {
+            (value >= hi - BOUND_SLACK && direction > 0.0)
+                || (value <= lo + BOUND_SLACK && direction < 0.0)
+        };
+        match var {
+            Var::Alpha(k) => self.alpha_bounds[k].is_some_and(|(lo, hi)| at(x.alpha[k], lo, hi)),
+            Var::Joint(j) => at(x.u[j], log_kappa.0, log_kappa.1),
+            Var::Length(k) => at(x.v[k], f64::NEG_INFINITY, self.max_length[k].ln()),
+            _ => false,
+        }
     }
 
     /// Clamps `x` into the box: α within its bounds, curvature within the cap, length within
@@ -348,6 +439,9 @@ impl Layout {
 fn get(x: &Params, var: Var) -> f64 {
     match var {
         Var::Theta0 => x.theta0,
+        Var::X(k) => x.pose[k].0.x,
+        Var::Y(k) => x.pose[k].0.y,
+        Var::Angle(k) => x.pose[k].1,
         Var::Joint(j) => x.u[j],
         Var::Length(k) => x.v[k],
         Var::Alpha(k) => x.alpha[k],
@@ -357,6 +451,9 @@ fn get(x: &Params, var: Var) -> f64 {
 fn set(x: &mut Params, var: Var, value: f64) {
     match var {
         Var::Theta0 => x.theta0 = value,
+        Var::X(k) => x.pose[k].0.x = value,
+        Var::Y(k) => x.pose[k].0.y = value,
+        Var::Angle(k) => x.pose[k].1 = value,
         Var::Joint(j) => x.u[j] = value,
         Var::Length(k) => x.v[k] = value,
         Var::Alpha(k) => x.alpha[k] = value,
@@ -391,7 +488,6 @@ struct Solver<'a> {
     start: Point,
     end: Point,
     scale: f64,
-    tolerance: f64,
     chord_error: f64,
     /// Bounds of the joints' log-curvature magnitudes (see [`MIN_RADIUS_TOLERANCES`],
     /// [`MAX_RADIUS_EXTENTS`]).
@@ -471,13 +567,30 @@ impl Solver<'_> {
         e
     }
 
-    /// The constraint values of a chain: end point minus the target (scaled by the extent),
-    /// then for C3 the dκ/ds differences at `c3_joints`.
-    fn constraints(&self, segments: &[LacSegment], c3_joints: &[usize]) -> DVector<f64> {
-        let mut c = Vec::with_capacity(2 + c3_joints.len());
+    /// The constraint values of a chain: end point minus the target (scaled by the extent);
+    /// in the shooting form each joint's position and tangent gaps (the segment's end pose
+    /// minus the next one's start pose in `x`); then for C3 the dκ/ds differences at
+    /// `c3_joints`.
+    fn constraints(
+        &self,
+        form: Form,
+        segments: &[LacSegment],
+        x: &Params,
+        c3_joints: &[usize],
+    ) -> DVector<f64> {
+        let mut c = Vec::with_capacity(2 + 3 * segments.len() + c3_joints.len());
         let end = segments.last().map_or(self.start, |s| s.end());
         c.push((end.x - self.end.x) / self.scale);
         c.push((end.y - self.end.y) / self.scale);
+        if form == Form::Shooting {
+            for k in 1..segments.len() {
+                let (p, theta) = x.pose[k];
+                let before = &segments[k - 1];
+                c.push((before.end().x - p.x) / self.scale);
+                c.push((before.end().y - p.y) / self.scale);
+                c.push(before.theta1() - theta);
+            }
+        }
         if self.c3 {
             for &j in c3_joints {
                 c.push(c3_gap(&segments[j - 1], &segments[j]));
@@ -486,10 +599,20 @@ impl Solver<'_> {
         DVector::from_vec(c)
     }
 
-    fn constraints_met(&self, c: &DVector<f64>) -> bool {
-        c.iter()
-            .enumerate()
-            .all(|(i, v)| v.abs() <= if i < 2 { END_TOLERANCE } else { C3_TOLERANCE })
+    /// Whether `c` (from [`Solver::constraints`] of an `n`-segment chain) is met.
+    fn constraints_met(&self, form: Form, n: usize, c: &DVector<f64>) -> bool {
+        let positions = match form {
+            Form::Shooting => 2 + 3 * n.saturating_sub(1),
+            Form::Forward => 2,
+        };
+        c.iter().enumerate().all(|(i, v)| {
+            v.abs()
+                <= if i < positions {
+                    END_TOLERANCE
+                } else {
+                    C3_TOLERANCE
+                }
+        })
     }
 }
 
@@ -558,23 +681,23 @@ pub(crate) fn smooth_chain(smooth: &SmoothInput) -> Option<Chain> {
         start,
         end,
         scale: extent.max(smooth.tolerance),
-        tolerance: smooth.tolerance,
         chord_error: smooth.chord_error,
         log_kappa: (min_log_kappa, max_log_kappa),
         c3: smooth.continuity == Continuity::C3,
     };
     layout.clamp(&mut x, solver.log_kappa);
-    greedy_start(&solver, &layout, &mut x, &assign)?;
-    let max_cuts = MAX_CUTS_PER_SEGMENT * chain.segments.len();
-    let (mut best_worst, mut stalled) = (f64::INFINITY, 0);
-    for _ in 0..=max_cuts {
+    let mut best_worst = f64::INFINITY;
+    for _ in 0..=MAX_CUT_ROUNDS {
+        if layout.n() > MAX_SEGMENTS {
+            return None;
+        }
         let evaluation = solve(&solver, &layout, &mut x, &mut assign)?;
         let own: Vec<Vec<f64>> = evaluation
             .residuals
             .iter()
             .map(|r| r.iter().map(|v| v.abs()).collect())
             .collect();
-        let (worst, at) = worst_sample(&own);
+        let (worst, _) = worst_sample(&own);
         if worst <= smooth.tolerance {
             let nearest = nearest_deviation(
                 points,
@@ -587,17 +710,21 @@ pub(crate) fn smooth_chain(smooth: &SmoothInput) -> Option<Chain> {
                 return Some(finish(smooth, &layout, &evaluation, &assign, nearest));
             }
         }
-        if worst < best_worst {
-            best_worst = worst;
-            stalled = 0;
-        } else {
-            stalled += 1;
-            if stalled >= STALLED_CUTS {
-                return None;
-            }
+        if worst >= best_worst {
+            return None;
         }
-        let k = at?;
-        cut(&mut layout, &mut x, &mut assign, &evaluation, k)?;
+        best_worst = worst;
+        // Every segment that misses the tolerance is cut, the last first (a cut shifts the
+        // indices after it).
+        let missing: Vec<usize> = (0..own.len())
+            .filter(|&k| own[k].iter().any(|&d| d > smooth.tolerance))
+            .collect();
+        if missing.is_empty() {
+            return None;
+        }
+        for &k in missing.iter().rev() {
+            cut(&mut layout, &mut x, &mut assign, &evaluation, k)?;
+        }
     }
     None
 }
@@ -702,10 +829,21 @@ fn start_layout(
         kinds: smooth.chain.segments.iter().map(|s| s.start).collect(),
         end_kind: smooth.chain.segments[n - 1].end,
         origin: (0..n).collect(),
-        targets: segs.iter().map(|s| (s.end(), s.theta1())).collect(),
     };
+    // Each segment's start pose, its angle continued from the one before (the G1 segments keep
+    // theirs in (−π, π]).
+    let mut pose = Vec::with_capacity(n);
+    let mut theta = segs[0].theta0();
+    for (k, seg) in segs.iter().enumerate() {
+        if k > 0 {
+            theta += wrap_angle(seg.theta0() - segs[k - 1].theta1());
+        }
+        pose.push((seg.start(), theta));
+        theta += seg.theta1() - seg.theta0();
+    }
     let mut x = Params {
         theta0: segs[0].theta0(),
+        pose,
         u,
         v: segs.iter().map(|s| s.length().ln()).collect(),
         alpha: segs.iter().map(|s| s.alpha().unwrap_or(-1.0)).collect(),
@@ -736,7 +874,10 @@ fn start_layout(
                 let pts: Vec<Point> = assign[k].iter().map(|&i| smooth.input.points[i]).collect();
                 deviation(&seg, &pts, smooth.chord_error).feet
             };
-            let pose = (seg.point(half), seg.theta(half));
+            let pose = (
+                seg.point(half),
+                x.pose[k].1 + seg.theta(half) - seg.theta0(),
+            );
             split_at(&mut layout, &mut x, assign, k, (mid, pose), half, &feet);
             for m in [k, k + 1] {
                 set_alpha_bounds(smooth.alpha, &mut layout, &mut x, m)?;
@@ -843,7 +984,7 @@ fn split_at(
     at: f64,
     feet: &[f64],
 ) {
-    layout.targets.insert(k, pose);
+    x.pose.insert(k + 1, pose);
     let length = x.v[k].exp();
     let sign = if kappa > 0.0 { 1.0 } else { -1.0 };
     layout.sigma.insert(k + 1, sign);
@@ -1020,8 +1161,52 @@ fn jacobian(
     Some((jr, jc))
 }
 
+/// The Jacobians of the residuals and of the constraints in the shooting form: a change of
+/// one unknown rebuilds one segment (two for a joint's curvature) from its own start pose; the
+/// residual columns are differenced at the samples' feet, the constraint columns by
+/// differencing [`Solver::constraints`] with those segments replaced.
+fn shooting_jacobian(
+    solver: &Solver,
+    layout: &Layout,
+    x: &Params,
+    e: &Evaluation,
+    vars: &[Var],
+    c3_joints: &[usize],
+) -> Option<(DMatrix<f64>, DMatrix<f64>)> {
+    let mut offsets = Vec::with_capacity(e.residuals.len());
+    let mut rows = 0;
+    for r in &e.residuals {
+        offsets.push(rows);
+        rows += r.len();
+    }
+    let c0 = solver.constraints(Form::Shooting, &e.segments, x, c3_joints);
+    let mut jr = DMatrix::zeros(rows, vars.len());
+    let mut jc = DMatrix::zeros(c0.len(), vars.len());
+    let mut segments = e.segments.clone();
+    for (col, &var) in vars.iter().enumerate() {
+        let (k0, k1) = layout.shooting_reach(var);
+        let mut xp = x.clone();
+        set(&mut xp, var, get(x, var) + DIFFERENCE_STEP);
+        for k in k0..=k1 {
+            let seg = layout.segment(&xp, k, xp.pose[k].0, xp.pose[k].1).ok()?;
+            let ratio = seg.length() / e.segments[k].length();
+            let feet: Vec<f64> = e.feet[k].iter().map(|s| s * ratio).collect();
+            let moved = crate::lac::deviation::points_at(&seg, &feet);
+            for (m, ((f, nrm), p)) in e.foot_points[k].iter().zip(moved).enumerate() {
+                jr[(offsets[k] + m, col)] = -nrm.dot((p - *f) / DIFFERENCE_STEP);
+            }
+            segments[k] = seg;
+        }
+        let c1 = solver.constraints(Form::Shooting, &segments, &xp, c3_joints);
+        jc.set_column(col, &((c1 - &c0) / DIFFERENCE_STEP));
+        segments[k0..=k1].copy_from_slice(&e.segments[k0..=k1]);
+    }
+    Some((jr, jc))
+}
+
 /// The constraints' Jacobian alone at the chain `segments` of `x`.
 fn constraint_jacobian(
+    form: Form,
     solver: &Solver,
     layout: &Layout,
     x: &Params,
@@ -1037,7 +1222,11 @@ fn constraint_jacobian(
         foot_points: vec![Vec::new(); n],
         cost: 0.0,
     };
-    jacobian(solver, layout, x, &e, vars, c3_joints).map(|(_, jc)| jc)
+    match form {
+        Form::Shooting => shooting_jacobian(solver, layout, x, &e, vars, c3_joints),
+        Form::Forward => jacobian(solver, layout, x, &e, vars, c3_joints),
+    }
+    .map(|(_, jc)| jc)
 }
 
 /// `x` moved by `delta` over `vars`.
@@ -1049,110 +1238,93 @@ fn moved(x: &Params, vars: &[Var], delta: &DVector<f64>) -> Params {
     out
 }
 
-/// Projects `x` onto the constraints by least-norm Newton steps (the constraint Jacobian
-/// recomputed at every step); returns the chain there, or `None` when the steps do not meet the
-/// constraints.
+/// Projects `x` onto the constraints of `form` by least-norm Newton steps; returns the chain
+/// there, or `None` when the steps do not meet the constraints.
+///
+/// With `chord`, the constraint Jacobian of the point a trial stepped from is used first (a
+/// chord method: a damped step away, it converges in two or three steps without differencing
+/// the chain again); fresh Jacobians take over where it does not converge.
 fn project(
+    form: Form,
     solver: &Solver,
     layout: &Layout,
     x: &mut Params,
-    vars: &[Var],
     c3_joints: &[usize],
+    chord: Option<&DMatrix<f64>>,
 ) -> Option<Vec<LacSegment>> {
-    for _ in 0..=PROJECTION_STEPS {
-        layout.clamp(x, solver.log_kappa);
-        let segments = layout.build(x, solver.start).ok()?;
-        let c = solver.constraints(&segments, c3_joints);
-        if solver.constraints_met(&c) {
+    let vars = layout.vars_of(form);
+    let n = layout.n();
+    let newton = |x: &mut Params, fixed: Option<&DMatrix<f64>>| -> Option<Vec<LacSegment>> {
+        let gram_fixed = match fixed {
+            Some(jc) => Some((jc * jc.transpose()).cholesky()?),
+            None => None,
+        };
+        for _ in 0..=PROJECTION_STEPS {
+            layout.clamp(x, solver.log_kappa);
+            let segments = layout.build_form(form, x, solver.start).ok()?;
+            let c = solver.constraints(form, &segments, x, c3_joints);
+            if solver.constraints_met(form, n, &c) {
+                return Some(segments);
+            }
+            let step = match (fixed, &gram_fixed) {
+                (Some(jc), Some(gram)) => -(jc.transpose() * gram.solve(&c)),
+                _ => {
+                    let jc =
+                        constraint_jacobian(form, solver, layout, x, &segments, &vars, c3_joints)?;
+                    let gram = (&jc * jc.transpose()).cholesky()?;
+                    -(jc.transpose() * gram.solve(&c))
+                }
+            };
+            *x = moved(x, &vars, &step);
+        }
+        None
+    };
+    if chord.is_some() {
+        let mut trial = x.clone();
+        if let Some(segments) = newton(&mut trial, chord) {
+            *x = trial;
             return Some(segments);
         }
-        let jc = constraint_jacobian(solver, layout, x, &segments, vars, c3_joints)?;
-        let gram = (&jc * jc.transpose()).cholesky()?;
-        let step = -(jc.transpose() * gram.solve(&c));
-        *x = moved(x, vars, &step);
     }
-    None
+    newton(x, None)
 }
 
-/// How a Levenberg–Marquardt pass treats the constraints.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-enum Mode {
-    /// As residuals of weight [`SOFT_WEIGHT`]: from a start far from them (the G1 chain's
-    /// joints averaged to one curvature each land the chain's end away from the piece's end,
-    /// farther the more segments there are), the samples pull the chain back along its whole
-    /// length instead of a projection swinging its end.
-    Soft,
-    /// Exactly: a KKT step with the linearised constraints, projected back onto them.
-    Hard,
-}
-
-/// Weight of the constraint residuals of [`Mode::Soft`]: the end point's miss counts as much as
-/// that many samples missing by as much (and a C3 joint's relative dκ/ds gap as that many
-/// samples missing by the tolerance).
-const SOFT_WEIGHT: f64 = 10.0;
-
-/// The constraint residuals of [`Mode::Soft`] in the samples' length units: the end miss, and the
-/// C3 gaps scaled by the tolerance.
-fn soft_scale(solver: &Solver, row: usize) -> f64 {
-    SOFT_WEIGHT
-        * if row < 2 {
-            solver.scale
-        } else {
-            solver.tolerance
-        }
-}
-
-/// The merit of an evaluation in `mode`: the squared distances, plus the weighted squared
-/// constraint residuals when soft.
-fn merit(solver: &Solver, e: &Evaluation, c3_joints: &[usize], mode: Mode) -> f64 {
-    match mode {
-        Mode::Hard => e.cost,
-        Mode::Soft => {
-            let c = solver.constraints(&e.segments, c3_joints);
-            e.cost
-                + c.iter()
-                    .enumerate()
-                    .map(|(i, v)| (soft_scale(solver, i) * v).powi(2))
-                    .sum::<f64>()
-        }
-    }
-}
-
-/// One Levenberg–Marquardt pass in `mode` from `x` and its evaluation `e`, moving both (and the
-/// samples' assignment); `None` where no chain could be built.
+/// The Levenberg–Marquardt fit in the shooting form from `x` and its evaluation `e`, moving
+/// both (and the samples' assignment): each step solves the damped Gauss–Newton system with the
+/// linearised constraints (KKT, Marquardt's scaling) and is projected back onto them; `None`
+/// where no chain could be built.
 fn levenberg_marquardt(
     solver: &Solver,
     layout: &Layout,
     x: &mut Params,
     assign: &mut [Vec<usize>],
     e: &mut Evaluation,
-    mode: Mode,
 ) -> Option<()> {
-    let vars = layout.vars();
+    let vars = layout.shooting_vars();
     let c3_joints = layout.c3_joints();
     let m = vars.len();
     let mut lambda = INITIAL_DAMPING;
-    let mut current = merit(solver, e, &c3_joints, mode);
     for _ in 0..MAX_ITERATIONS {
-        let (mut jr, jc) = jacobian(solver, layout, x, e, &vars, &c3_joints)?;
-        let mut r = residual_vector(e);
-        let c = solver.constraints(&e.segments, &c3_joints);
-        if mode == Mode::Soft {
-            let rows = r.len();
-            jr = jr.insert_rows(rows, c.len(), 0.0);
-            r = r.insert_rows(rows, c.len(), 0.0);
-            for i in 0..c.len() {
-                let w = soft_scale(solver, i);
-                r[rows + i] = w * c[i];
-                for col in 0..m {
-                    jr[(rows + i, col)] = w * jc[(i, col)];
-                }
+        let (jr, jc) = shooting_jacobian(solver, layout, x, e, &vars, &c3_joints)?;
+        let r = residual_vector(e);
+        let c = solver.constraints(Form::Shooting, &e.segments, x, &c3_joints);
+        let nc = c.len();
+        let mut a = jr.transpose() * &jr;
+        let mut g = jr.transpose() * &r;
+        let floor = DIAGONAL_FLOOR * a.diagonal().max().max(f64::MIN_POSITIVE);
+        // An unknown on its bound that the descent direction pushes beyond it is held there
+        // (an active set): clamped after the step instead, it bends every step the model
+        // predicts, and the damping rises until the steps are too short to matter.
+        let mut jc = jc;
+        for (i, &var) in vars.iter().enumerate() {
+            if layout.pushed_beyond(var, x, -g[i], solver.log_kappa) {
+                a.row_mut(i).fill(0.0);
+                a.column_mut(i).fill(0.0);
+                a[(i, i)] = floor.max(1.0);
+                g[i] = 0.0;
+                jc.column_mut(i).fill(0.0);
             }
         }
-        let nc = if mode == Mode::Hard { c.len() } else { 0 };
-        let a = jr.transpose() * &jr;
-        let g = jr.transpose() * &r;
-        let floor = DIAGONAL_FLOOR * a.diagonal().max().max(f64::MIN_POSITIVE);
         let mut accepted = None;
         while lambda <= MAX_DAMPING {
             let mut kkt = DMatrix::zeros(m + nc, m + nc);
@@ -1160,49 +1332,44 @@ fn levenberg_marquardt(
             for i in 0..m {
                 kkt[(i, i)] += lambda * a[(i, i)].max(floor);
             }
+            kkt.view_mut((m, 0), (nc, m)).copy_from(&jc);
+            kkt.view_mut((0, m), (m, nc)).copy_from(&jc.transpose());
             let mut rhs = DVector::zeros(m + nc);
             rhs.rows_mut(0, m).copy_from(&(-&g));
-            if nc > 0 {
-                kkt.view_mut((m, 0), (nc, m)).copy_from(&jc);
-                kkt.view_mut((0, m), (m, nc)).copy_from(&jc.transpose());
-                rhs.rows_mut(m, nc).copy_from(&(-&c));
-            }
+            rhs.rows_mut(m, nc).copy_from(&(-&c));
             let Some(step) = kkt.lu().solve(&rhs) else {
                 lambda *= DAMPING_INCREASE;
                 continue;
             };
             let mut trial = moved(x, &vars, &step.rows(0, m).into_owned());
-            let segments = match mode {
-                Mode::Hard => project(solver, layout, &mut trial, &vars, &c3_joints),
-                Mode::Soft => {
-                    layout.clamp(&mut trial, solver.log_kappa);
-                    layout.build(&trial, solver.start).ok()
-                }
-            };
-            let Some(segments) = segments else {
+            let Some(segments) = project(
+                Form::Shooting,
+                solver,
+                layout,
+                &mut trial,
+                &c3_joints,
+                Some(&jc),
+            ) else {
                 lambda *= DAMPING_INCREASE;
                 continue;
             };
             let t = solver.evaluate(segments, assign, Some((e, assign)));
-            let value = merit(solver, &t, &c3_joints, mode);
-            if value < current {
-                accepted = Some((trial, t, value));
+            if t.cost < e.cost {
+                accepted = Some((trial, t));
                 lambda /= DAMPING_DECREASE;
                 break;
             }
             lambda *= DAMPING_INCREASE;
         }
-        let Some((trial, t, value)) = accepted else {
+        let Some((trial, t)) = accepted else {
             break;
         };
-        let decrease = current - value;
-        let before = current;
+        let decrease = e.cost - t.cost;
+        let before = e.cost;
         *x = trial;
         *e = t;
-        current = value;
         if reassign(solver, &e.segments, assign) {
             *e = solver.evaluate(e.segments.clone(), assign, None);
-            current = merit(solver, e, &c3_joints, mode);
         } else if decrease <= RELATIVE_DECREASE * before {
             break;
         }
@@ -1210,138 +1377,41 @@ fn levenberg_marquardt(
     Some(())
 }
 
-/// Iterations of each segment's solve in [`greedy_start`].
-const GREEDY_ITERATIONS: usize = 12;
-
-/// An angle difference brought into (−π, π] (the G1 chain's segments keep their own angles
-/// in (−π, π]; a smooth chain's run on continuously).
+/// An angle difference brought into (−π, π] (the G1 chain's segments keep their own angles in
+/// (−π, π]; a smooth chain's run on continuously).
 fn wrap_angle(a: f64) -> f64 {
     let (s, c) = a.sin_cos();
     s.atan2(c)
 }
 
-/// The signed distance of a sample from its distance and side.
-fn signed(distance: f64, side: f64) -> f64 {
-    if side < 0.0 { -distance } else { distance }
-}
-
-/// The starting chain built segment by segment: each from the end pose of the one before, with
-/// its length, α and end curvature fitted to its own samples and to the end pose the G1 chain
-/// has there (`Layout::targets`, weighted as [`SOFT_WEIGHT`] samples). Laid out forward without
-/// that anchoring, a chain drifts: every joint's averaged curvature turns the rest of the chain
-/// (seen: 30 px off on a 200 px spring whose G1 chain starts with a hook).
-fn greedy_start(
-    solver: &Solver,
-    layout: &Layout,
-    x: &mut Params,
-    assign: &[Vec<usize>],
-) -> Option<Vec<LacSegment>> {
-    let n = layout.n();
-    let mut segments = Vec::with_capacity(n);
-    let (mut p, mut theta) = (solver.start, x.theta0);
-    for k in 0..n {
-        let (target, phi) = layout.targets[k];
-        let length0 = x.v[k].exp();
-        let pts = solver.points_of(&assign[k]);
-        let mut vars = vec![Var::Length(k)];
-        if k == 0 && layout.sigma[0] != 0.0 {
-            vars.push(Var::Joint(0));
-        }
-        if layout.alpha_bounds[k].is_some() {
-            vars.push(Var::Alpha(k));
-        }
-        if layout.sigma[k + 1] != 0.0 {
-            vars.push(Var::Joint(k + 1));
-        }
-        let residuals = |y: &Params| -> Option<DVector<f64>> {
-            let seg = layout.segment(y, k, p, theta).ok()?;
-            let d = deviation(&seg, &pts, solver.chord_error);
-            let mut r: Vec<f64> = d
-                .distances
-                .iter()
-                .zip(&d.sides)
-                .map(|(d, s)| signed(*d, *s))
-                .collect();
-            let miss = seg.end() - target;
-            r.push(SOFT_WEIGHT * miss.x);
-            r.push(SOFT_WEIGHT * miss.y);
-            r.push(SOFT_WEIGHT * length0 * wrap_angle(seg.theta1() - phi));
-            Some(DVector::from_vec(r))
-        };
-        let mut r = residuals(x)?;
-        let mut lambda = INITIAL_DAMPING;
-        for _ in 0..GREEDY_ITERATIONS {
-            let mut jac = DMatrix::zeros(r.len(), vars.len());
-            for (col, &var) in vars.iter().enumerate() {
-                let mut y = x.clone();
-                set(&mut y, var, get(x, var) + DIFFERENCE_STEP);
-                if let Some(ry) = residuals(&y) {
-                    jac.set_column(col, &((ry - &r) / DIFFERENCE_STEP));
-                }
-            }
-            let a = jac.transpose() * &jac;
-            let g = jac.transpose() * &r;
-            let floor = DIAGONAL_FLOOR * a.diagonal().max().max(f64::MIN_POSITIVE);
-            let mut accepted = None;
-            while lambda <= MAX_DAMPING {
-                let mut damped = a.clone();
-                for i in 0..vars.len() {
-                    damped[(i, i)] += lambda * a[(i, i)].max(floor);
-                }
-                let Some(step) = damped.lu().solve(&(-&g)) else {
-                    lambda *= DAMPING_INCREASE;
-                    continue;
-                };
-                let mut y = moved(x, &vars, &step);
-                layout.clamp(&mut y, solver.log_kappa);
-                match residuals(&y) {
-                    Some(ry) if ry.norm_squared() < r.norm_squared() => {
-                        accepted = Some((y, ry));
-                        lambda /= DAMPING_DECREASE;
-                        break;
-                    }
-                    _ => lambda *= DAMPING_INCREASE,
-                }
-            }
-            let Some((y, ry)) = accepted else { break };
-            let decrease = r.norm_squared() - ry.norm_squared();
-            let before = r.norm_squared();
-            *x = y;
-            r = ry;
-            if decrease <= RELATIVE_DECREASE * before {
-                break;
-            }
-        }
-        let seg = layout.segment(x, k, p, theta).ok()?;
-        p = seg.end();
-        theta = seg.theta1();
-        segments.push(seg);
-    }
-    Some(segments)
-}
-
-/// The constrained fit from `x`: a soft pass that brings the chain to its samples and near its
-/// constraints, then the exact pass (see [`Mode`]); the final chain's evaluation, or `None` where
-/// no chain meeting the constraints could be built.
+/// The constrained fit from `x` (shooting form, see [`Form`]), then the answer laid out forward
+/// so that the joints meet exactly; the forward chain's evaluation, or `None` where no chain
+/// meeting the constraints could be built. `x` keeps the shooting solution (the next cut starts
+/// from it).
 fn solve(
     solver: &Solver,
     layout: &Layout,
     x: &mut Params,
     assign: &mut [Vec<usize>],
 ) -> Option<Evaluation> {
-    let vars = layout.vars();
     let c3_joints = layout.c3_joints();
-    layout.clamp(x, solver.log_kappa);
-    let segments = layout.build(x, solver.start).ok()?;
+    let segments = project(Form::Shooting, solver, layout, x, &c3_joints, None)?;
     let mut e = solver.evaluate(segments, assign, None);
     if reassign(solver, &e.segments, assign) {
         e = solver.evaluate(e.segments.clone(), assign, None);
     }
-    levenberg_marquardt(solver, layout, x, assign, &mut e, Mode::Soft)?;
-    let segments = project(solver, layout, x, &vars, &c3_joints)?;
-    e = solver.evaluate(segments, assign, None);
-    levenberg_marquardt(solver, layout, x, assign, &mut e, Mode::Hard)?;
-    Some(e)
+    levenberg_marquardt(solver, layout, x, assign, &mut e)?;
+    let mut forward = x.clone();
+    forward.theta0 = forward.pose[0].1;
+    let segments = project(
+        Form::Forward,
+        solver,
+        layout,
+        &mut forward,
+        &c3_joints,
+        None,
+    )?;
+    Some(solver.evaluate(segments, assign, None))
 }
 
 /// The chain record of a solved smooth chain.
