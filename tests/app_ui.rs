@@ -314,6 +314,32 @@ fn fixing_alpha_refits_the_selected_stroke_at_once() {
     );
 }
 
+#[test]
+fn choosing_g2_refits_the_selected_stroke_curvature_continuous() {
+    let mut harness = harness(AppOptions::default());
+    draw_arc(&mut harness);
+    wait_for_fits(&mut harness);
+    harness.get_by_label("1.1.1").click();
+    harness.step();
+    harness.get_by_label("G2").click();
+    harness.step();
+    let stroke = &harness.state().document().strokes()[0];
+    assert_eq!(stroke.settings.continuity, kansei::chain::Continuity::G2);
+    wait_for_fits(&mut harness);
+    // The drawn arc's chain is G2: every joint between consecutive segments of one piece is
+    // curvature-continuous to rounding.
+    let rows: Vec<_> = harness.state().scene().segments().collect();
+    assert!(!rows.is_empty());
+    for w in rows.windows(2) {
+        let ((a, _, first), (b, _, second)) = (w[0], w[1]);
+        if a.stroke == b.stroke && a.piece == b.piece {
+            let jump =
+                kansei::export::relative_jump(first.segment.kappa1(), second.segment.kappa0());
+            assert!(jump.is_some_and(|j| j <= 1e-9), "{jump:?}");
+        }
+    }
+}
+
 /// Steps until the tablet feed has ended or failed.
 fn wait_for_tablet(harness: &mut Harness<'static, KanseiApp>) {
     use kansei::app::tablet::FeedState;

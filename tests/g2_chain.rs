@@ -230,3 +230,47 @@ fn continuity_names_round_trip() {
     }
     assert!("g3".parse::<Continuity>().is_err());
 }
+
+#[test]
+fn a_planted_compound_rhythm_comes_back_with_continuous_dkappa_ds() {
+    // Seed 002's compound rhythm: α = −1 with κ 0.004 → 0.012 over 150, then α = 1 from the same
+    // κ and the same dκ/ds over 100 (its end curvature solved from that slope).
+    let first = LacSegment::new(Point::ZERO, 0.0, 150.0, Some(-1.0), 0.004, 0.012).expect("first");
+    let slope = first.dkappa_ds(first.length());
+    let (alpha, length, kappa) = (1.0f64, 100.0, 0.012f64);
+    // ρ^α linear in s with c = −α·(dκ/ds)/κ^(1+α) (κ > 0).
+    let c = -alpha * slope / kappa.powf(1.0 + alpha);
+    let rho_end = ((1.0 / kappa).powf(alpha) + c * length).powf(1.0 / alpha);
+    let second = LacSegment::new(
+        first.end(),
+        first.theta1(),
+        length,
+        Some(alpha),
+        kappa,
+        1.0 / rho_end,
+    )
+    .expect("second");
+    let planted_gap = (second.dkappa_ds(0.0) - slope).abs() / slope.abs();
+    assert!(planted_gap < 1e-12, "planted C3: {planted_gap}");
+    let truth = [first, second];
+    let mut rng = Rng::new(13);
+    let stroke = samples(&truth, 300, |p| {
+        p + Vec2::new(0.05 * rng.normal(), 0.05 * rng.normal())
+    });
+    let chains = fit(&stroke, 0.5, Continuity::C3);
+    assert_eq!(chains.len(), 1);
+    let chain = &chains[0];
+    assert_eq!(chain.continuity, Continuity::C3, "the smooth fit held");
+    assert!(chain.within_tolerance, "deviation {}", chain.max_deviation);
+    assert!(largest_jump(chain) <= G2_JUMP);
+    for w in chain.segments.windows(2) {
+        let (a, b) = (
+            w[0].segment.dkappa_ds(w[0].segment.length()),
+            w[1].segment.dkappa_ds(0.0),
+        );
+        let gap = (a - b).abs() / a.abs().max(b.abs());
+        assert!(gap <= 1e-8, "dκ/ds {a} against {b}");
+    }
+    let off = distance_from_planted(chain, &truth);
+    assert!(off <= 0.5, "{off} from the planted curve");
+}

@@ -12,7 +12,7 @@
 //! *its* inverse on the redo stack. Undo followed by redo gives back the same strokes and settings
 //! (tested in this module).
 
-use crate::chain::ChainOptions;
+use crate::chain::{ChainOptions, Continuity};
 use crate::lac::AlphaChoice;
 use crate::pipeline::PipelineOptions;
 use crate::stroke::{Stroke, StrokeFile, Units};
@@ -31,6 +31,8 @@ pub struct FitSettings {
     pub alpha: AlphaChoice,
     /// Corner turning angle, degrees. Default 70 (as [`PipelineOptions::default`]).
     pub corner_angle: f64,
+    /// Continuity at the chain's smooth joints (default as [`ChainOptions::default`]).
+    pub continuity: Continuity,
 }
 
 impl Default for FitSettings {
@@ -40,6 +42,7 @@ impl Default for FitSettings {
             tolerance: pipeline.tolerance,
             alpha: pipeline.chain.alpha,
             corner_angle: pipeline.corner_angle,
+            continuity: pipeline.chain.continuity,
         }
     }
 }
@@ -52,6 +55,7 @@ impl FitSettings {
             corner_angle: self.corner_angle,
             chain: ChainOptions {
                 alpha: self.alpha,
+                continuity: self.continuity,
                 ..ChainOptions::default()
             },
             ..PipelineOptions::default()

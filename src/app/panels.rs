@@ -12,6 +12,8 @@ use super::files::{ExportKind, export_path};
 use super::replay::{Replay, SPEED_RANGE};
 use super::scene::{SceneData, Selection};
 use super::worker::{FitState, Fits};
+use crate::chain::Continuity;
+use crate::export::relative_jump;
 use crate::lac::AlphaChoice;
 use crate::render::Overlays;
 use crate::stroke::{StrokeFile, Units};
@@ -207,6 +209,16 @@ pub fn settings(
         )
         .labelled_by(label.id);
     });
+    ui.horizontal(|ui| {
+        ui.label("continuity").on_hover_text(
+            "G1: position and tangent meet at the joints; G2: the curvature too; C3: its \
+             derivative too (compound rhythm). A curve the smooth fit cannot hold within the \
+             tolerance stays G1: the segment table's joint jumps say which.",
+        );
+        for c in [Continuity::G1, Continuity::G2, Continuity::C3] {
+            ui.radio_value(&mut s.continuity, c, c.name().to_uppercase());
+        }
+    });
     if ui.button("defaults").clicked() {
         s = FitSettings::default();
     }
@@ -291,7 +303,9 @@ pub fn replay(ui: &mut Ui, speed: &mut f64, replay: Option<&Replay>, commands: &
     );
 }
 
-/// The table of every segment: α, length, κ0, κ1, max deviation. A click selects the row.
+/// The table of every segment: α, length, κ0, κ1, max deviation, and the relative curvature
+/// jump at its end joint (0 where the chain is G2 there; blank at a piece's end). A click
+/// selects the row.
 pub fn segment_table(
     ui: &mut Ui,
     scene: &SceneData,
@@ -303,13 +317,14 @@ pub fn segment_table(
     ScrollArea::vertical().show(ui, |ui| {
         egui::Grid::new("segments")
             .striped(true)
-            .num_columns(6)
+            .num_columns(7)
             .show(ui, |ui| {
-                for head in ["segment", "α", "length", "κ0", "κ1", "max dev"] {
+                for head in ["segment", "α", "length", "κ0", "κ1", "max dev", "κ jump"] {
                     ui.strong(head);
                 }
                 ui.end_row();
-                for (selection, stroke, seg) in scene.segments() {
+                let rows: Vec<_> = scene.segments().collect();
+                for (i, &(selection, stroke, seg)) in rows.iter().enumerate() {
                     let name = segment_name(stroke, selection);
                     let is_selected = selected == Some(selection);
                     if ui.selectable_label(is_selected, name).clicked() {
@@ -321,6 +336,19 @@ pub fn segment_table(
                     ui.label(format!("{:.4}", s.kappa0()));
                     ui.label(format!("{:.4}", s.kappa1()));
                     ui.label(format!("{:.4}", seg.max_deviation));
+                    // The next row continues the same chain: the joint between them.
+                    let jump = rows.get(i + 1).and_then(|&(next, _, following)| {
+                        (next.stroke == selection.stroke
+                            && next.piece == selection.piece
+                            && next.segment == selection.segment + 1)
+                            .then(|| relative_jump(s.kappa1(), following.segment.kappa0()))
+                            .flatten()
+                    });
+                    ui.label(jump.map_or(String::new(), |j| format!("{:.0} %", 100.0 * j)))
+                        .on_hover_text(
+                            "relative curvature jump at the joint to the next segment \
+                             (0 % where the chain is G2)",
+                        );
                     ui.end_row();
                 }
             });
