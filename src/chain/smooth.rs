@@ -643,11 +643,89 @@ fn c3_gap(before: &LacSegment, after: &LacSegment) -> f64 {
 /// The chain `chain` refitted with the continuity of `smooth.continuity` (see the module
 /// documentation); `None` where it cannot be done within the tolerance (the G1 chain stands).
 pub(crate) fn smooth_chain(smooth: &SmoothInput) -> Option<Chain> {
-    let input = smooth.input;
     let chain = smooth.chain;
     if smooth.continuity == Continuity::G1 || chain.segments.is_empty() {
         return None;
     }
+    // A joint where the G1 chain bends tighter than the samples resolve (a hook, a fast tight
+    // turn: beyond the curvature bound) cannot be smooth under that bound: it becomes a corner,
+    // and the parts between such joints are fitted on their own, each from and to its fixed
+    // end points.
+    let cap = curvature_cap(smooth.input.points, smooth.tolerance);
+    let segments = &chain.segments;
+    let mut cuts: Vec<usize> = (1..segments.len())
+        .filter(|&j| {
+            segments[j - 1]
+                .segment
+                .kappa1()
+                .abs()
+                .max(segments[j].segment.kappa0().abs())
+                > cap
+        })
+        .collect();
+    cuts.push(segments.len());
+    let mut out: Vec<ChainSegment> = Vec::with_capacity(segments.len());
+    let mut max_deviation: f64 = 0.0;
+    let mut all_smooth = true;
+    let mut from = 0;
+    for &to in &cuts {
+        let mut part = Chain {
+            segments: segments[from..to].to_vec(),
+            ..chain.clone()
+        };
+        if from > 0 {
+            part.segments[0].start = JointKind::Corner;
+        }
+        if to < segments.len()
+            && let Some(last) = part.segments.last_mut()
+        {
+            last.end = JointKind::Corner;
+        }
+        let fitted = smooth_part(&SmoothInput {
+            chain: &part,
+            ..*smooth
+        });
+        let fitted = match fitted {
+            Some(f) => f,
+            None => {
+                all_smooth = false;
+                part
+            }
+        };
+        max_deviation = max_deviation.max(fitted.max_deviation);
+        out.extend(fitted.segments);
+        from = to;
+    }
+    if cuts.len() == 1 && !all_smooth {
+        return None;
+    }
+    Some(Chain {
+        segments: out,
+        max_deviation,
+        within_tolerance: max_deviation <= smooth.tolerance,
+        refined: chain.refined,
+        continuity: if all_smooth {
+            smooth.continuity
+        } else {
+            Continuity::G1
+        },
+    })
+}
+
+/// The largest curvature a smooth chain of these samples may have at a joint (see
+/// [`MIN_RADIUS_TOLERANCES`], [`MAX_TURN_PER_SAMPLE`]).
+fn curvature_cap(points: &[Point], tolerance: f64) -> f64 {
+    let mut steps: Vec<f64> = points.windows(2).map(|w| w[0].distance(w[1])).collect();
+    steps.sort_by(f64::total_cmp);
+    let spacing = steps.get(steps.len() / 2).copied().unwrap_or(0.0);
+    (1.0 / (MIN_RADIUS_TOLERANCES * tolerance))
+        .min(MAX_TURN_PER_SAMPLE / spacing.max(f64::MIN_POSITIVE))
+}
+
+/// [`smooth_chain`] of a chain without forced corners.
+fn smooth_part(smooth: &SmoothInput) -> Option<Chain> {
+    let input = smooth.input;
+    let chain = smooth.chain;
     let points = input.points;
     // Each G1 segment's local samples (points whose original index lies in its range).
     let mut assign: Vec<Vec<usize>> = chain
@@ -664,16 +742,11 @@ pub(crate) fn smooth_chain(smooth: &SmoothInput) -> Option<Chain> {
         .collect();
     // A sample on a range boundary (a segment without samples repeats its neighbour's index)
     // belongs to one segment only.
-    for k in 1..assign.len() {
-        let taken: Vec<usize> = assign[..k].iter().flatten().copied().collect();
-        assign[k].retain(|i| !taken.contains(i));
+    let mut taken = vec![false; points.len()];
+    for list in &mut assign {
+        list.retain(|&i| !std::mem::replace(&mut taken[i], true));
     }
-    let mut steps: Vec<f64> = points.windows(2).map(|w| w[0].distance(w[1])).collect();
-    steps.sort_by(f64::total_cmp);
-    let spacing = steps.get(steps.len() / 2).copied().unwrap_or(0.0);
-    let max_kappa = (1.0 / (MIN_RADIUS_TOLERANCES * smooth.tolerance))
-        .min(MAX_TURN_PER_SAMPLE / spacing.max(f64::MIN_POSITIVE));
-    let max_log_kappa = max_kappa.ln();
+    let max_log_kappa = curvature_cap(points, smooth.tolerance).ln();
     let extent = points
         .iter()
         .map(|p| p.distance(points[0]))

@@ -216,13 +216,20 @@ impl JointRecord {
         for w in segments.windows(2) {
             let (a, b) = (&w[0].segment, &w[1].segment);
             let (da, db) = (a.dkappa_ds(a.length()), b.dkappa_ds(0.0));
+            // A corner inside a chain (where a smooth chain met a bend its samples do not
+            // resolve) is not a smooth joint: no jumps are measured there.
+            let smooth = w[0].end != crate::chain::JointKind::Corner;
             joints.push(JointRecord {
-                kind: JointContinuity::Smooth,
+                kind: if smooth {
+                    JointContinuity::Smooth
+                } else {
+                    JointContinuity::Corner
+                },
                 point: p(b.start()),
                 kappa: [Some(a.kappa1()), Some(b.kappa0())],
-                curvature_jump: relative_jump(a.kappa1(), b.kappa0()),
+                curvature_jump: relative_jump(a.kappa1(), b.kappa0()).filter(|_| smooth),
                 dkappa_ds: [finite(da), finite(db)],
-                dkappa_ds_jump: relative_jump(da, db),
+                dkappa_ds_jump: relative_jump(da, db).filter(|_| smooth),
             });
         }
         let l = &last.segment;
