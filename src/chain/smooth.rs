@@ -1353,9 +1353,18 @@ fn project(
                 let step = match (fixed, &gram_fixed) {
                     (Some(jc), Some(gram)) => -(jc.transpose() * gram.solve(&c)),
                     _ => {
-                        let jc = constraint_jacobian(
+                        let mut jc = constraint_jacobian(
                             form, solver, layout, x, &segments, &vars, c3_joints,
                         )?;
+                        // Unknowns on a bound stay there: a step the clamp would cut short
+                        // turns Newton's quadratic convergence into a crawl.
+                        for (i, &var) in vars.iter().enumerate() {
+                            if layout.pushed_beyond(var, x, 1.0, solver.log_kappa)
+                                || layout.pushed_beyond(var, x, -1.0, solver.log_kappa)
+                            {
+                                jc.column_mut(i).fill(0.0);
+                            }
+                        }
                         let gram = (&jc * jc.transpose()).cholesky()?;
                         -(jc.transpose() * gram.solve(&c))
                     }
