@@ -102,6 +102,11 @@ fn fit_equals_kansei_fit_on_every_fixture() {
             "?alpha_range=-1:0.5",
             &["--alpha-range", "-1:0.5"][..],
         )])
+        .chain([(
+            "perfect-freehand-hey",
+            "?continuity=g2",
+            &["--continuity", "g2"][..],
+        )])
     {
         let served = ok(http::post(
             s.addr(),
