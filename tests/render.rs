@@ -888,6 +888,42 @@ fn comb_teeth_stand_outside_a_circle() {
 }
 
 #[test]
+fn cut_comb_teeth_carry_a_cross_beyond_the_envelope() {
+    // A comb scale far beyond the drawing cuts every tooth of a circle to the longest length,
+    // COMB_MAX_TOOTH_FRACTION of the diagonal: the envelope is the circle of radius r + that,
+    // and only the crosses on the cut tips reach beyond it.
+    let r = 50.0;
+    let (file, out) = quarter_circle(r);
+    let scene = Scene::new(&file.strokes, &out.curves, file.units);
+    let b = scene_bounds(&scene).expect("bounds");
+    let longest = kansei::render::COMB_MAX_TOOTH_FRACTION * b.width().hypot(b.height());
+    let (w, h) = (400u32, 400u32);
+    let view = View::fit(Rect::new(-5.0, -5.0, 95.0, 95.0), w, h, 0.0);
+    let beyond = |scale: f64| {
+        let options = RenderOptions {
+            comb_scale: Some(scale),
+            ..RenderOptions::with_overlays(Overlays {
+                comb: true,
+                ..Overlays::NONE
+            })
+        };
+        let pixmap = render(&scene, &view, &options).expect("renders");
+        let ink = inked(&pixmap);
+        let edge = r + longest + 1.5 / view.pixels_per_unit;
+        ink.iter()
+            .enumerate()
+            .filter(|(k, i)| {
+                let q = Point::new((k % w as usize) as f64 + 0.5, (k / w as usize) as f64 + 0.5);
+                **i && view.to_model(q).to_vec2().hypot() > edge
+            })
+            .count()
+    };
+    assert!(beyond(1000.0 * r) > 0, "no mark on the cut teeth");
+    // Teeth a little shorter than the longest (none cut): nothing beyond the envelope.
+    assert_eq!(beyond(0.95 * longest * r), 0);
+}
+
+#[test]
 fn non_finite_samples_are_skipped() {
     let stroke = Stroke::new(vec![
         Sample::new(0.0, 0.0),

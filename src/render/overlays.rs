@@ -51,6 +51,11 @@ pub const COMB_QUANTILE: f64 = 0.95;
 /// far above the quantile) is cut to this length instead of crossing the whole image.
 pub const COMB_MAX_TOOTH_FRACTION: f64 = 0.3;
 
+/// Size in pixels of the cross drawn on the tip of a comb tooth cut to
+/// [`COMB_MAX_TOOTH_FRACTION`] (each arm's length): the mark that says the curvature there is
+/// off the comb's scale.
+pub const COMB_CLIP_MARK_PX: f64 = 8.0;
+
 /// Length of the reference tooth of [`auto_comb_scale`], as a fraction of the scene's diagonal.
 pub const COMB_HEIGHT_FRACTION: f64 = 0.1;
 
@@ -336,7 +341,8 @@ fn comb_scale_for(scene: &Scene, diagonal: f64) -> Option<f64> {
 /// The curvature comb of each chain: a tooth every [`RenderOptions::comb_spacing`] pixels,
 /// from the curve along −κ·scale·n (n the left normal, so teeth stand on the convex side, away
 /// from the centre of curvature), at most [`COMB_MAX_TOOTH_FRACTION`] of the scene's diagonal
-/// long, and the envelope through the teeth's tips.
+/// long (a cut tooth carries a cross on its tip, [`COMB_CLIP_MARK_PX`]), and the envelope
+/// through the teeth's tips.
 pub fn draw_comb(pixmap: &mut Pixmap, scene: &Scene, view: &View, options: &RenderOptions) {
     let Some(diagonal) = scene_diagonal(scene) else {
         return;
@@ -380,6 +386,22 @@ pub fn draw_comb(pixmap: &mut Pixmap, scene: &Scene, view: &View, options: &Rend
                 {
                     teeth.move_to(a.0, a.1);
                     teeth.line_to(b.0, b.1);
+                }
+                // A tooth cut to the longest length gets a cross on its tip: the curvature there
+                // is off the comb's scale (a needle), not as drawn.
+                if (s.kappa * scale).abs() > max_tooth {
+                    let (sin, cos) = s.theta.sin_cos();
+                    let reach = 0.5 * COMB_CLIP_MARK_PX / view.pixels_per_unit / 2f64.sqrt();
+                    let (t, n) = (Vec2::new(cos, sin), Vec2::new(-sin, cos));
+                    for arm in [(t + n) * reach, (t - n) * reach] {
+                        let (p, q) = (view.to_pixel(tip(s) - arm), view.to_pixel(tip(s) + arm));
+                        if let (Some(p), Some(q)) =
+                            (super::primitives::to_f32(p), super::primitives::to_f32(q))
+                        {
+                            teeth.move_to(p.0, p.1);
+                            teeth.line_to(q.0, q.1);
+                        }
+                    }
                 }
                 envelope.push(b);
             }
