@@ -274,3 +274,46 @@ fn a_planted_compound_rhythm_comes_back_with_continuous_dkappa_ds() {
     let off = distance_from_planted(chain, &truth);
     assert!(off <= 0.5, "{off} from the planted curve");
 }
+
+#[test]
+fn every_recorded_stroke_in_g2_holds_its_tolerance_and_states_its_continuity() {
+    // Real strokes: whatever the smooth fit manages, no curve loses its tolerance, every joint
+    // keeps position continuity, and a curve that says G2 is curvature-continuous at every
+    // smooth joint (corners excepted: there the samples turn faster than they resolve).
+    let mut options = PipelineOptions::default();
+    options.chain.continuity = Continuity::G2;
+    let (mut curves, mut smooth_curves) = (0, 0);
+    for name in common::fixture_names() {
+        let file = common::fixture(&name);
+        let out = kansei::pipeline::fit_file(&file, &options).expect("options are valid");
+        assert!(out.failures.is_empty(), "{name}: {:?}", out.failures);
+        for curve in &out.curves {
+            let Some(chain) = &curve.chain else { continue };
+            curves += 1;
+            assert!(
+                chain.within_tolerance && chain.max_deviation <= curve.tolerance,
+                "{name}: deviation {} > {}",
+                chain.max_deviation,
+                curve.tolerance
+            );
+            for w in chain.segments.windows(2) {
+                let gap = w[0].segment.end().distance(w[1].segment.start());
+                let scale = 1.0 + w[1].segment.start().to_vec2().hypot();
+                assert!(gap <= 1e-9 * scale, "{name}: a joint {gap} apart");
+            }
+            if chain.continuity == Continuity::G2 {
+                smooth_curves += 1;
+                for joint in kansei::export::JointRecord::of_chain(&chain.segments) {
+                    if joint.kind == kansei::export::JointContinuity::Smooth {
+                        let jump = joint.curvature_jump.expect("a finite jump");
+                        assert!(jump <= G2_JUMP, "{name}: G2 curve with a jump {jump}");
+                    }
+                }
+            }
+        }
+    }
+    assert!(
+        curves > 0 && smooth_curves > 0,
+        "{smooth_curves} of {curves}"
+    );
+}
