@@ -50,13 +50,18 @@
 //! no negative α (`--alpha 1`, say), an inflection cannot be G2 and the chain stays G1.
 //!
 //! ## Tolerance and honesty
-//! A segment may not bend tighter than a radius of [`MIN_RADIUS_TOLERANCES`] tolerances (a
-//! tighter bend is a corner the samples cannot tell from a curve), nor grow beyond
-//! [`MAX_LENGTH_FACTOR`] times its starting length. When the solved chain leaves a sample
-//! farther than the tolerance from its nearest segment, the segment holding the worst sample is
-//! cut at its middle (a new joint with that point's curvature) and the fit runs again, at most
-//! [`MAX_CUT_ROUNDS`] rounds. When that is not enough (or a step
-//! cannot be built at all) the G1 chain is kept.
+//! A joint may not bend tighter than a radius of [`MIN_RADIUS_TOLERANCES`] tolerances, nor turn
+//! more than [`MAX_TURN_PER_SAMPLE`] between two samples (a tighter bend is a corner the samples
+//! cannot tell from a curve), and a segment may not grow beyond [`MAX_LENGTH_FACTOR`] times its
+//! starting length. A G1 joint that bends beyond those bounds (a hook, a needle) becomes a
+//! corner of the smooth chain, and the parts between such corners are fitted on their own,
+//! between fixed end points. When the solved chain leaves a sample farther than the tolerance
+//! from its nearest segment, every segment that misses is cut at its middle (a new joint with
+//! that point's curvature: the two halves are the same curve, so the chain stays on its
+//! constraints) and the fit runs again, at most [`MAX_CUT_ROUNDS`] rounds and until
+//! [`STALLED_ROUNDS`] rounds in a row bring the worst sample no nearer. When that is not enough,
+//! a part has more than [`MAX_SEGMENTS`] segments, or a chain cannot be built at all, the part
+//! keeps its G1 segments and the chain says [`Continuity::G1`].
 
 use super::fit::{Chain, ChainInput, ChainSegment, JointKind, nearest_deviation, tile_ranges};
 use crate::bspline::project::Pieces;
