@@ -301,8 +301,17 @@ impl Layout {
         self.alpha_bounds.len()
     }
 
+    /// The forward form's unknowns: the start angle, then [`Layout::shape_vars`].
     fn vars(&self) -> Vec<Var> {
         let mut vars = vec![Var::Theta0];
+        vars.extend(self.shape_vars());
+        vars
+    }
+
+    /// The unknowns both forms share: the joints' log-curvatures (but zero joints), the
+    /// segments' log-lengths and their free α.
+    fn shape_vars(&self) -> Vec<Var> {
+        let mut vars = Vec::new();
         vars.extend(
             (0..=self.n())
                 .filter(|&j| self.sigma[j] != 0.0)
@@ -321,7 +330,7 @@ impl Layout {
     fn shooting_vars(&self) -> Vec<Var> {
         let mut vars: Vec<Var> = (0..self.n()).map(Var::Angle).collect();
         vars.extend((1..self.n()).flat_map(|k| [Var::X(k), Var::Y(k)]));
-        vars.extend(self.vars().into_iter().skip(1));
+        vars.extend(self.shape_vars());
         vars
     }
 
@@ -549,9 +558,9 @@ impl Solver<'_> {
                 let seeds: Vec<f64> = old.feet[k].iter().map(|s| s * ratio).collect();
                 deviation_near(seg, &pts, &seeds)
             });
-            let d = seeded.unwrap_or_else(|| deviation(seg, &pts, self.chord_error));
+            let mut d = seeded.unwrap_or_else(|| deviation(seg, &pts, self.chord_error));
             let foot_points = if d.foot_points.len() == pts.len() {
-                d.foot_points.clone()
+                std::mem::take(&mut d.foot_points)
             } else {
                 d.feet
                     .iter()
@@ -683,7 +692,10 @@ pub(crate) fn smooth_chain(smooth: &SmoothInput) -> Option<Chain> {
     for &to in &cuts {
         let mut part = Chain {
             segments: segments[from..to].to_vec(),
-            ..chain.clone()
+            max_deviation: chain.max_deviation,
+            within_tolerance: chain.within_tolerance,
+            refined: chain.refined,
+            continuity: chain.continuity,
         };
         if from > 0 {
             part.segments[0].start = JointKind::Corner;
@@ -1008,10 +1020,11 @@ fn alpha_for_turning(
     target: f64,
     bounds: (f64, f64),
 ) -> f64 {
+    let (ka, kb) = (layout.kappa(x, k), layout.kappa(x, k + 1));
+    let length = x.v[k].exp();
     let turning = |alpha: f64| -> Option<f64> {
-        let mut y = x.clone();
-        y.alpha[k] = alpha;
-        let seg = layout.segment(&y, k, Point::ZERO, 0.0).ok()?;
+        let alpha = (ka != kb).then_some(alpha);
+        let seg = LacSegment::new(Point::ZERO, 0.0, length, alpha, ka, kb).ok()?;
         Some(seg.theta1() - target)
     };
     let (lo, hi) = bounds;
@@ -1182,34 +1195,25 @@ fn residual_vector(e: &Evaluation) -> DVector<f64> {
     )
 }
 
-/// The Jacobians of the residuals and of the constraints in `vars` (see the module
-/// documentation); `None` where a differenced chain cannot be built.
-fn jacobian(
+/// The constraints' Jacobian in the forward form at its chain `segments`: a change of one
+/// unknown reshapes at most two segments (differenced) and moves every later segment rigidly
+/// with the end pose of the last reshaped one, so the chain's end moves by
+/// δE + δθ·(Pₑ − E)^⊥ (E, θ that end pose); a C3 gap changes only where a reshaped segment meets
+/// it. `None` where a differenced segment cannot be built.
+fn forward_constraint_jacobian(
     solver: &Solver,
     layout: &Layout,
     x: &Params,
-    e: &Evaluation,
+    segments: &[LacSegment],
     vars: &[Var],
     c3_joints: &[usize],
-) -> Option<(DMatrix<f64>, DMatrix<f64>)> {
+) -> Option<DMatrix<f64>> {
     let n = layout.n();
-    let mut offsets = Vec::with_capacity(n + 1);
-    let mut rows = 0;
-    for r in &e.residuals {
-        offsets.push(rows);
-        rows += r.len();
-    }
     let nc = 2 + if solver.c3 { c3_joints.len() } else { 0 };
-    let mut jr = DMatrix::zeros(rows, vars.len());
     let mut jc = DMatrix::zeros(nc, vars.len());
-    let end = e.segments[n - 1].end();
+    let end = segments[n - 1].end();
     for (col, &var) in vars.iter().enumerate() {
         if var == Var::Theta0 {
-            for k in 0..n {
-                for (m, (f, nrm)) in e.foot_points[k].iter().enumerate() {
-                    jr[(offsets[k] + m, col)] = -nrm.dot(perp(*f - solver.start));
-                }
-            }
             let d = perp(end - solver.start) / solver.scale;
             jc[(0, col)] = d.x;
             jc[(1, col)] = d.y;
@@ -1218,26 +1222,11 @@ fn jacobian(
         let (k0, k1) = layout.reach(var);
         let mut xp = x.clone();
         set(&mut xp, var, get(x, var) + DIFFERENCE_STEP);
-        let new = layout.rebuild(&xp, &e.segments, k0, k1).ok()?;
-        for k in k0..=k1 {
-            let seg = &new[k - k0];
-            let ratio = seg.length() / e.segments[k].length();
-            let feet: Vec<f64> = e.feet[k].iter().map(|s| s * ratio).collect();
-            let moved = crate::lac::deviation::points_at(seg, &feet);
-            for (m, ((f, nrm), p)) in e.foot_points[k].iter().zip(moved).enumerate() {
-                jr[(offsets[k] + m, col)] = -nrm.dot((p - *f) / DIFFERENCE_STEP);
-            }
-        }
+        let new = layout.rebuild(&xp, segments, k0, k1).ok()?;
         let last = &new[k1 - k0];
-        let old_end = e.segments[k1].end();
+        let old_end = segments[k1].end();
         let d_end = (last.end() - old_end) / DIFFERENCE_STEP;
-        let d_theta = (last.theta1() - e.segments[k1].theta1()) / DIFFERENCE_STEP;
-        for k in k1 + 1..n {
-            for (m, (f, nrm)) in e.foot_points[k].iter().enumerate() {
-                let dp = d_end + perp(*f - old_end) * d_theta;
-                jr[(offsets[k] + m, col)] = -nrm.dot(dp);
-            }
-        }
+        let d_theta = (last.theta1() - segments[k1].theta1()) / DIFFERENCE_STEP;
         let d = (d_end + perp(end - old_end) * d_theta) / solver.scale;
         jc[(0, col)] = d.x;
         jc[(1, col)] = d.y;
@@ -1246,19 +1235,19 @@ fn jacobian(
                 if (k0..=k1).contains(&k) {
                     &new[k - k0]
                 } else {
-                    &e.segments[k]
+                    &segments[k]
                 }
             };
             for (row, &j) in c3_joints.iter().enumerate() {
                 if (k0..=k1).contains(&(j - 1)) || (k0..=k1).contains(&j) {
-                    let before = c3_gap(&e.segments[j - 1], &e.segments[j]);
+                    let before = c3_gap(&segments[j - 1], &segments[j]);
                     let after = c3_gap(pick(j - 1), pick(j));
                     jc[(2 + row, col)] = (after - before) / DIFFERENCE_STEP;
                 }
             }
         }
     }
-    Some((jr, jc))
+    Some(jc)
 }
 
 /// The Jacobians of the residuals and of the constraints in the shooting form: a change of
@@ -1314,19 +1303,20 @@ fn constraint_jacobian(
     vars: &[Var],
     c3_joints: &[usize],
 ) -> Option<DMatrix<f64>> {
-    let n = segments.len();
-    let e = Evaluation {
-        segments: segments.to_vec(),
-        residuals: vec![Vec::new(); n],
-        feet: vec![Vec::new(); n],
-        foot_points: vec![Vec::new(); n],
-        cost: 0.0,
-    };
     match form {
-        Form::Shooting => shooting_jacobian(solver, layout, x, &e, vars, c3_joints),
-        Form::Forward => jacobian(solver, layout, x, &e, vars, c3_joints),
+        Form::Shooting => {
+            let n = segments.len();
+            let e = Evaluation {
+                segments: segments.to_vec(),
+                residuals: vec![Vec::new(); n],
+                feet: vec![Vec::new(); n],
+                foot_points: vec![Vec::new(); n],
+                cost: 0.0,
+            };
+            shooting_jacobian(solver, layout, x, &e, vars, c3_joints).map(|(_, jc)| jc)
+        }
+        Form::Forward => forward_constraint_jacobian(solver, layout, x, segments, vars, c3_joints),
     }
-    .map(|(_, jc)| jc)
 }
 
 /// `x` moved by `delta` over `vars`.

@@ -19,10 +19,6 @@ pub const FIT_PARAMS: [&str; 7] = [
     "lcg",
 ];
 
-/// The continuities the chain can be fitted with. G1 only, for now: the chain's segments share
-/// end points and tangents.
-pub const CONTINUITIES: [&str; 3] = crate::chain::Continuity::NAMES;
-
 /// The SVG layers `layers` may name (as `kansei fit --svg-layers`).
 pub const SVG_LAYERS: [&str; 4] = ["samples", "bspline", "alpha", "splits"];
 
