@@ -692,6 +692,7 @@ fn fit(args: &FitArgs, out: &mut dyn std::io::Write) -> Result<(), CliError> {
         }
         failed += output.failures.len();
         strokes += file.strokes.len();
+        warn_below_noise_floor(input, &output);
         let doc = CurveFile::from_output_with(&output, &ExportOptions { lcg: args.lcg });
         for c in &output.curves {
             let lac = c
@@ -717,7 +718,7 @@ fn fit(args: &FitArgs, out: &mut dyn std::io::Write) -> Result<(), CliError> {
                         c.stroke,
                         c.samples.0,
                         c.samples.1,
-                        output.tolerance
+                        c.tolerance
                     );
                 }
             }
@@ -981,4 +982,26 @@ fn bench(args: &BenchArgs, out: &mut dyn std::io::Write) -> Result<(), CliError>
         .map_err(io)?;
     }
     Ok(())
+}
+
+/// Warns once per file when a given tolerance lies below some strokes' noise floor: the fit
+/// then follows the samples' noise (more segments, curvature that is the noise's).
+fn warn_below_noise_floor(input: &std::path::Path, output: &crate::pipeline::FitOutput) {
+    let mut below: Vec<(usize, f64, f64)> = output
+        .curves
+        .iter()
+        .filter_map(|c| c.noise.map(|n| (c.stroke, c.tolerance, n.floor)))
+        .filter(|(_, tolerance, floor)| tolerance < floor)
+        .collect();
+    below.dedup_by_key(|b| b.0);
+    let Some(worst) = below.iter().map(|b| b.2).reduce(f64::max) else {
+        return;
+    };
+    eprintln!(
+        "warning: {}: the tolerance {} is below the noise floor of {} stroke(s) (up to {worst:.3e}): \
+         the fit will follow the noise; without --tolerance each stroke is fitted to its floor",
+        input.display(),
+        output.tolerance,
+        below.len()
+    );
 }

@@ -11,14 +11,21 @@ use crate::bspline::{BSplineFit, FitError, FitOptions, SegmentSearch, fit_bsplin
 use crate::chain::{Chain, ChainError, ChainInput, ChainOptions, fit_chain};
 use crate::prepare::{CornerOptions, DwellOptions, Piece, PieceEnd, prepare};
 use crate::split::{Spans, SplitError, SplitKind, SplitOptions, split_spans};
-use crate::stroke::{Stroke, StrokeFile, Units};
+use crate::stroke::{NoiseFloor, Stroke, StrokeFile, Units};
 
 /// Options for the whole pipeline.
 #[derive(Clone, Debug, PartialEq)]
 pub struct PipelineOptions {
-    /// Fitting tolerance in the stroke's units. Default `None`: the unit's default
-    /// ([`Units::default_tolerance`]).
+    /// Fitting tolerance in the stroke's units. Default `None`: per stroke, the unit's default
+    /// ([`Units::default_tolerance`]) raised to the stroke's noise floor when
+    /// [`PipelineOptions::noise_floor`] is on ([`PipelineOptions::stroke_tolerance`]). A given
+    /// tolerance is used as given, even below the floor (the fit then follows the noise, and
+    /// [`StrokeTolerance::below_floor`] says so).
     pub tolerance: Option<f64>,
+    /// Raise the default tolerance to each stroke's noise floor ([`NoiseFloor::floor`]: the
+    /// worst rounding of its coordinate grid and the largest excursion of its jitter,
+    /// [`crate::stroke::noise_multiple`]). Default true; off, every stroke gets the unit's default, as the seed paper did.
+    pub noise_floor: bool,
     /// Corner turning angle, degrees. Default 70 (see [`CornerOptions`]).
     pub corner_angle: f64,
     /// Keep the pen's landing and lifting as drawn: its hooks and its dwell. Default false.
@@ -42,6 +49,7 @@ impl Default for PipelineOptions {
     fn default() -> Self {
         PipelineOptions {
             tolerance: None,
+            noise_floor: true,
             corner_angle: 70.0,
             keep_hooks: false,
             max_segments: 4096,
@@ -55,9 +63,24 @@ impl Default for PipelineOptions {
 }
 
 impl PipelineOptions {
-    /// The tolerance for strokes in `units`.
+    /// The nominal tolerance for strokes in `units`: the given one, else the unit's default (a
+    /// stroke's own may be higher: [`PipelineOptions::stroke_tolerance`]).
     pub fn tolerance_for(&self, units: Units) -> f64 {
         self.tolerance.unwrap_or(units.default_tolerance())
+    }
+
+    /// The tolerance one stroke is fitted to, with the noise it was chosen by: the given
+    /// tolerance, or the unit's default raised to the stroke's noise floor (when
+    /// [`PipelineOptions::noise_floor`] is on).
+    pub fn stroke_tolerance(&self, stroke: &Stroke, units: Units) -> StrokeTolerance {
+        let points: Vec<crate::geom::Point> = stroke.samples.iter().map(|s| s.point()).collect();
+        let noise = NoiseFloor::estimate(&points);
+        let tolerance = match self.tolerance {
+            Some(t) => t,
+            None if self.noise_floor => units.default_tolerance().max(noise.floor),
+            None => units.default_tolerance(),
+        };
+        StrokeTolerance { tolerance, noise }
     }
 
     /// The default options without the log-aesthetic stage: prepare, B-spline and split only.
@@ -89,6 +112,23 @@ impl PipelineOptions {
     }
 }
 
+/// The tolerance a stroke is fitted to, and the noise floor it was chosen by.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct StrokeTolerance {
+    /// The tolerance, in the stroke's units.
+    pub tolerance: f64,
+    /// The stroke's estimated noise.
+    pub noise: NoiseFloor,
+}
+
+impl StrokeTolerance {
+    /// Whether the tolerance is below the noise floor: the fit must then follow the samples'
+    /// noise to keep each within it (more segments, curvature that is the noise's).
+    pub fn below_floor(&self) -> bool {
+        self.tolerance < self.noise.floor
+    }
+}
+
 /// One fitted piece of a stroke.
 #[derive(Clone, Debug)]
 pub struct CurveFit {
@@ -110,6 +150,9 @@ pub struct CurveFit {
     pub chain: Option<Chain>,
     /// The tolerance the piece was fitted to (its `within_tolerance` flags refer to it).
     pub tolerance: f64,
+    /// The stroke's estimated noise (`None` where the caller fitted with a bare tolerance,
+    /// [`fit_stroke`]).
+    pub noise: Option<NoiseFloor>,
 }
 
 /// A stroke fitted as one point: a tap, or any stroke whose samples all lie within the
@@ -296,6 +339,24 @@ pub fn fit_one(
     }
 }
 
+/// [`fit_one`] at the stroke's own tolerance ([`PipelineOptions::stroke_tolerance`]), its
+/// curves carrying the noise it was chosen by.
+pub fn fit_with_noise(
+    stroke: &Stroke,
+    index: usize,
+    units: Units,
+    options: &PipelineOptions,
+) -> StrokeOutcome {
+    let chosen = options.stroke_tolerance(stroke, units);
+    let mut outcome = fit_one(stroke, index, chosen.tolerance, options);
+    if let StrokeOutcome::Curves(curves) = &mut outcome {
+        for c in curves {
+            c.noise = Some(chosen.noise);
+        }
+    }
+    outcome
+}
+
 /// Runs the curve stages on one stroke that is valid ([`Stroke::validate`]) and not a dot
 /// ([`Stroke::as_dot`]); [`fit_one`] checks both first.
 pub fn fit_stroke(
@@ -457,6 +518,7 @@ fn fit_piece(
         indices: piece.indices.clone(),
         chain,
         tolerance,
+        noise: None,
     })
 }
 
@@ -512,8 +574,7 @@ pub fn fit_files(
                 break;
             };
             let file = files[f];
-            let tolerance = options.tolerance_for(file.units);
-            let outcome = fit_one(&file.strokes[s], s, tolerance, options);
+            let outcome = fit_with_noise(&file.strokes[s], s, file.units, options);
             // fit_one contains panics, so no lock is ever poisoned; take it either way.
             *slots[i].lock().unwrap_or_else(|e| e.into_inner()) = Some(outcome);
             progress(done.fetch_add(1, Ordering::Relaxed) + 1, jobs.len());

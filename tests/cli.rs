@@ -26,11 +26,16 @@ fn fit_writes_a_kansei_curve_document() {
     assert_eq!(doc.tolerance, 0.5);
     assert!(!doc.curves.is_empty());
     for c in &doc.curves {
+        // Without --tolerance each stroke is fitted to the unit's default raised to its noise
+        // floor, which the curve states.
+        let noise = c.noise.expect("the stroke's noise");
+        let tolerance = c.tolerance.unwrap_or(doc.tolerance);
+        assert_eq!(tolerance, noise.floor.max(0.5));
         assert_eq!(c.bspline.degree, 3);
         assert_eq!(c.bspline.knots.len(), c.bspline.control_points.len() + 4);
-        assert!(c.bspline.max_deviation <= 0.5);
+        assert!(c.bspline.max_deviation <= tolerance);
         let lac = c.lac.as_ref().expect("chain figures");
-        assert!(lac.within_tolerance && lac.max_deviation <= 0.5);
+        assert!(lac.within_tolerance && lac.max_deviation <= tolerance);
         assert!(!c.segments.is_empty());
         // Every record is a valid segment whose written end and end tangent follow from its
         // parameters, and consecutive segments join G1.
@@ -43,7 +48,7 @@ fn fit_writes_a_kansei_curve_document() {
             assert!(w[0].end().distance(w[1].start()) <= 1e-9 * w[0].length().max(w[1].length()));
         }
         for s in &c.segments {
-            assert!(s.max_deviation <= 0.5);
+            assert!(s.max_deviation <= tolerance);
             assert!(s.samples[0] <= s.samples[1]);
         }
     }
@@ -663,4 +668,35 @@ fn a_parallel_batch_writes_what_one_thread_writes_in_input_order() {
         .output()
         .expect("runs");
     assert_eq!(out.status.code(), Some(2));
+}
+
+#[test]
+fn a_tolerance_below_the_noise_floor_is_honoured_with_a_warning() {
+    // perfect-freehand-waves is a sparse mouse stroke whose samples sit well over 0.5 px from
+    // any smooth curve: its floor is higher.
+    let given = run_ok(kansei().args([
+        "fit",
+        &fixture("perfect-freehand-waves"),
+        "--tolerance",
+        "0.5",
+    ]));
+    let stderr = String::from_utf8_lossy(&given.stderr);
+    assert!(stderr.contains("below the noise floor"), "{stderr}");
+    let doc = kansei::export::CurveFile::from_json(&String::from_utf8_lossy(&given.stdout))
+        .expect("valid document");
+    for c in &doc.curves {
+        // Honoured: fitted to 0.5, its floor stated above it.
+        assert_eq!(c.tolerance, None);
+        assert!(c.noise.expect("noise").floor > 0.5);
+        assert!(c.lac.as_ref().expect("chain").max_deviation <= 0.5);
+    }
+    let default = run_ok(kansei().args(["fit", &fixture("perfect-freehand-waves")]));
+    assert!(!String::from_utf8_lossy(&default.stderr).contains("noise floor"));
+    let doc = kansei::export::CurveFile::from_json(&String::from_utf8_lossy(&default.stdout))
+        .expect("valid document");
+    for c in &doc.curves {
+        let floor = c.noise.expect("noise").floor;
+        assert_eq!(c.tolerance, Some(floor));
+        assert!(c.lac.as_ref().expect("chain").max_deviation <= floor);
+    }
 }

@@ -23,7 +23,13 @@ const REPORT_CHORD_FRACTION: f64 = 1e-3;
 
 /// Checks one fitted file; returns (pieces, segments, dots).
 fn check(name: &str, file: &StrokeFile, out: &FitOutput) -> (usize, usize, usize) {
-    let tol = out.tolerance;
+    // Each stroke is fitted to its own tolerance (the unit's default raised to its noise
+    // floor); a curve states it.
+    let stroke_tol = |k: usize| {
+        PipelineOptions::default()
+            .stroke_tolerance(&file.strokes[k], file.units)
+            .tolerance
+    };
     // Every stroke in exactly one of curves, dots, failures.
     let curved: BTreeSet<usize> = out.curves.iter().map(|c| c.stroke).collect();
     let dotted: BTreeSet<usize> = out.dots.iter().map(|d| d.stroke).collect();
@@ -48,6 +54,7 @@ fn check(name: &str, file: &StrokeFile, out: &FitOutput) -> (usize, usize, usize
             .iter()
             .map(|s| s.point().distance(d.point))
             .fold(0.0, f64::max);
+        let tol = stroke_tol(d.stroke);
         assert!(
             worst <= tol,
             "{name}: dot of stroke {}: {worst} > {tol}",
@@ -58,6 +65,8 @@ fn check(name: &str, file: &StrokeFile, out: &FitOutput) -> (usize, usize, usize
     for c in &out.curves {
         let here = format!("{name} stroke {} samples {:?}", c.stroke, c.samples);
         let chain = c.chain.as_ref().expect("the LAC stage ran");
+        let tol = c.tolerance;
+        assert_eq!(tol, stroke_tol(c.stroke), "{here}");
         assert!(!chain.segments.is_empty(), "{here}: no segments");
         segments += chain.segments.len();
         // Ranges tile the piece in order: the first starts it, the last ends it, and each next

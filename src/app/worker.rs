@@ -12,7 +12,7 @@ use std::sync::mpsc::{Receiver, Sender, TryRecvError, channel};
 use std::thread::JoinHandle;
 
 use super::document::{DocStroke, Document, StrokeId};
-use crate::pipeline::{CurveFit, StrokeOutcome, fit_one};
+use crate::pipeline::{CurveFit, StrokeOutcome, fit_with_noise};
 use crate::stroke::{Stroke, Units};
 
 /// One stroke to fit.
@@ -44,11 +44,9 @@ impl FitJob {
 
     /// Runs the pipeline (on whatever thread calls it).
     pub fn run(&self) -> FitResult {
-        let options = &self.options;
-        let tolerance = options.tolerance_for(self.units);
         // A tap (a stroke within the tolerance of one point) has no curve to draw: its samples
         // show it.
-        let outcome = match fit_one(&self.stroke, 0, tolerance, options) {
+        let outcome = match fit_with_noise(&self.stroke, 0, self.units, &self.options) {
             StrokeOutcome::Curves(curves) => Ok(curves),
             StrokeOutcome::Dot(_) => Ok(Vec::new()),
             StrokeOutcome::Failed(failure) => Err(failure.message),

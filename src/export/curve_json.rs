@@ -109,6 +109,10 @@ pub struct CurveEntry {
     /// app fits each stroke with its own settings); its `within_tolerance` flags refer to it.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub tolerance: Option<f64>,
+    /// The stroke's estimated noise: its coordinate grid, the noise across the curve (σ) and
+    /// the tolerance floor they support (absent when it was not estimated).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub noise: Option<crate::stroke::NoiseFloor>,
 }
 
 /// A clamped cubic B-spline and its fit figures.
@@ -544,6 +548,7 @@ impl CurveEntry {
                 .unwrap_or_default(),
             // Set by the document, which knows the file's tolerance.
             tolerance: None,
+            noise: fit.noise,
         }
     }
 }

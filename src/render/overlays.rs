@@ -129,7 +129,11 @@ pub fn segment_path(segment: &LacSegment, view: &View) -> Option<Path> {
         let spacing = segment_spacing(segment, view);
         return polyline(segment.samples(spacing).map(|s| view.to_pixel(s.point)));
     }
-    if kappa == 0.0 {
+    // An arc whose sagitta κL²/8 is within the drawing tolerance is drawn as its chord: its
+    // centre would lie 1/κ away (seen: 5e17 px for a refitted line with κ = 1.9e-18), where
+    // the angles about it lose every digit of the arc's position.
+    let sagitta_px = kappa.abs() * segment.length().powi(2) / 8.0 * view.pixels_per_unit;
+    if kappa == 0.0 || sagitta_px <= ARC_TOLERANCE_PX {
         return polyline([segment.start(), segment.end()].map(|p| view.to_pixel(p)));
     }
     // The centre lies 1/κ along the left normal (−sin θ0, cos θ0); the angle about it moves by

@@ -1,0 +1,125 @@
+//! Planted chains of log-aesthetic segments: laid out, sampled as a pen or a mouse would, and
+//! compared with what the fitter gives back (distance and curvature profile against the planted
+//! curve itself, not its samples).
+
+use kansei::chain::Chain;
+use kansei::geom::Point;
+use kansei::lac::LacSegment;
+use kansei::stroke::{Sample, Stroke};
+
+/// A chain laid out from `start` at angle 0: each part (length, α, κ at its end), the first
+/// starting at `kappa0`; consecutive parts share curvature (G2).
+pub fn planted_at(start: Point, kappa0: f64, parts: &[(f64, Option<f64>, f64)]) -> Vec<LacSegment> {
+    let (mut p, mut theta, mut kappa) = (start, 0.0, kappa0);
+    parts
+        .iter()
+        .map(|&(length, alpha, k1)| {
+            let seg = LacSegment::new(p, theta, length, alpha, kappa, k1).expect("planted segment");
+            p = seg.end();
+            theta = seg.theta1();
+            kappa = k1;
+            seg
+        })
+        .collect()
+}
+
+/// [`planted_at`] from the origin.
+pub fn planted(kappa0: f64, parts: &[(f64, Option<f64>, f64)]) -> Vec<LacSegment> {
+    planted_at(Point::ZERO, kappa0, parts)
+}
+
+/// `n + 1` samples evenly spaced in arc length along the chain, through `quantise`, 8 ms apart.
+pub fn samples(chain: &[LacSegment], n: usize, mut quantise: impl FnMut(Point) -> Point) -> Stroke {
+    let total: f64 = chain.iter().map(|s| s.length()).sum();
+    let points: Vec<Point> = (0..=n)
+        .map(|i| {
+            let mut s = total * i as f64 / n as f64;
+            for seg in chain {
+                if s <= seg.length() {
+                    return quantise(seg.point(s));
+                }
+                s -= seg.length();
+            }
+            quantise(chain[chain.len() - 1].end())
+        })
+        .collect();
+    Stroke::new(
+        points
+            .iter()
+            .enumerate()
+            .map(|(i, p)| Sample::new(p.x, p.y).with_t(i as f64 * 0.008))
+            .collect(),
+    )
+}
+
+/// Points of the chain every `spacing` of arc length, with their curvature.
+pub fn dense(chain: impl IntoIterator<Item = LacSegment>, spacing: f64) -> Vec<(Point, f64)> {
+    chain
+        .into_iter()
+        .flat_map(|s| {
+            s.samples(spacing)
+                .map(|p| (p.point, p.kappa))
+                .collect::<Vec<_>>()
+        })
+        .collect()
+}
+
+/// The point of `polyline` nearest to `q`: its distance, and the index of the nearer vertex of
+/// the nearest edge.
+fn nearest(polyline: &[(Point, f64)], q: Point) -> (f64, usize) {
+    let mut best = (f64::INFINITY, 0);
+    for (i, w) in polyline.windows(2).enumerate() {
+        let ab = w[1].0 - w[0].0;
+        let t = ((q - w[0].0).dot(ab) / ab.hypot2().max(f64::MIN_POSITIVE)).clamp(0.0, 1.0);
+        let d = q.distance(w[0].0 + ab * t);
+        if d < best.0 {
+            best = (d, if t < 0.5 { i } else { i + 1 });
+        }
+    }
+    best
+}
+
+/// Distance from `q` to the planted chain (a polyline every 0.05 of arc length: its chord error
+/// at the curvatures planted here is below 1e-4).
+pub fn distance_to(truth: &[LacSegment], q: Point) -> f64 {
+    nearest(&dense(truth.iter().copied(), 0.05), q).0
+}
+
+/// The fitted chains' segments.
+pub fn segments(chains: &[Chain]) -> Vec<LacSegment> {
+    chains
+        .iter()
+        .flat_map(|c| c.segments.iter().map(|s| s.segment))
+        .collect()
+}
+
+/// The largest distance from the fitted chains to the planted chain, and back.
+pub fn distance_between(chains: &[Chain], truth: &[LacSegment]) -> f64 {
+    let step = truth.iter().map(|s| s.length()).sum::<f64>() / 2000.0;
+    let fitted = dense(segments(chains), step);
+    let planted = dense(truth.iter().copied(), step);
+    let there = fitted
+        .iter()
+        .map(|p| nearest(&planted, p.0).0)
+        .fold(0.0, f64::max);
+    let back = planted
+        .iter()
+        .map(|p| nearest(&fitted, p.0).0)
+        .fold(0.0, f64::max);
+    there.max(back)
+}
+
+/// The curvature profile's error: mean |κ_fit − κ_true| over mean |κ_true|, along the planted
+/// curve (κ_fit taken at the fitted chain's point nearest to each planted point).
+pub fn profile_error(chains: &[Chain], truth: &[LacSegment]) -> f64 {
+    let step = truth.iter().map(|s| s.length()).sum::<f64>() / 2000.0;
+    let fitted = dense(segments(chains), step / 4.0);
+    let planted = dense(truth.iter().copied(), step);
+    let (mut diff, mut scale) = (0.0, 0.0);
+    for &(p, k) in &planted {
+        let (_, i) = nearest(&fitted, p);
+        diff += (fitted[i].1 - k).abs();
+        scale += k.abs();
+    }
+    diff / scale
+}

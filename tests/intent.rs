@@ -1,0 +1,193 @@
+//! The curve the hand meant: planted G2 chains drawn on a whole-pixel grid (a mouse, a browser)
+//! and with tablet noise, fitted with the defaults (no tolerance given), come back with no more
+//! segments than planted, their curvature profile within 5 % of the planted curve's, within the
+//! reported tolerance of the planted curve itself, and a reported tolerance no larger than the
+//! unit's default or three times the true noise.
+
+mod common;
+
+use common::Rng;
+use common::planted::{distance_between, planted_at, profile_error, samples};
+use kansei::chain::{Chain, Continuity};
+use kansei::geom::{Point, Vec2};
+use kansei::lac::LacSegment;
+use kansei::pipeline::{PipelineOptions, StrokeOutcome, fit_with_noise};
+use kansei::stroke::{Stroke, Units};
+
+/// How far the noise's estimate may stand above the truth: σ is estimated from a few hundred
+/// residuals of local fits (a relative accuracy of about 10 %; jitter on a grid mixes with the
+/// rounding's staircase, up to 1.2 times seen here).
+const ESTIMATE_MARGIN: f64 = 1.3;
+
+/// A planted case: its name, chain (in pixels) and samples along it.
+struct Case {
+    name: &'static str,
+    parts: Vec<(f64, Option<f64>, f64)>,
+    kappa0: f64,
+    samples: usize,
+}
+
+fn cases() -> Vec<Case> {
+    vec![
+        Case {
+            name: "C rising then falling",
+            kappa0: 0.004,
+            parts: vec![(150.0, Some(0.5), 0.02), (120.0, Some(-1.0), 0.006)],
+            samples: 300,
+        },
+        Case {
+            name: "S through an inflection",
+            kappa0: 0.015,
+            parts: vec![(120.0, Some(-1.0), 0.0), (120.0, Some(-1.0), -0.015)],
+            samples: 300,
+        },
+        Case {
+            name: "three segments",
+            kappa0: 0.006,
+            parts: vec![
+                (110.0, Some(1.0), 0.018),
+                (90.0, Some(-1.0), 0.008),
+                (130.0, Some(0.0), 0.003),
+            ],
+            samples: 360,
+        },
+    ]
+}
+
+/// The case scaled by `scale` (lengths times it, curvatures divided by it), from `start`.
+fn truth(case: &Case, start: Point, scale: f64) -> Vec<LacSegment> {
+    let parts: Vec<_> = case
+        .parts
+        .iter()
+        .map(|&(l, a, k)| (l * scale, a, k / scale))
+        .collect();
+    planted_at(start, case.kappa0 / scale, &parts)
+}
+
+struct Fitted {
+    chains: Vec<Chain>,
+    tolerance: f64,
+}
+
+fn fit(stroke: &Stroke, units: Units, continuity: Continuity) -> Fitted {
+    let mut options = PipelineOptions::default();
+    options.chain.continuity = continuity;
+    let StrokeOutcome::Curves(curves) = fit_with_noise(stroke, 0, units, &options) else {
+        panic!("curves");
+    };
+    let tolerance = curves[0].tolerance;
+    Fitted {
+        chains: curves
+            .into_iter()
+            .map(|c| c.chain.expect("chain"))
+            .collect(),
+        tolerance,
+    }
+}
+
+/// The defaults on one planted stroke: no more segments than planted, the curvature profile
+/// within 5 % of the planted curve's, the chain within the reported tolerance of the planted
+/// curve, and a reported tolerance no larger than the unit's default or 3 times the noise.
+fn check(name: &str, truth: &[LacSegment], stroke: &Stroke, units: Units, noise: f64) {
+    let f = fit(stroke, units, Continuity::default());
+    assert_eq!(
+        f.chains.len(),
+        1,
+        "{name}: one piece, tolerance {}: {:?}",
+        f.tolerance,
+        f.chains
+            .iter()
+            .map(|c| (
+                c.segments[0].samples.0,
+                c.segments.last().map(|s| s.samples.1)
+            ))
+            .collect::<Vec<_>>()
+    );
+    let n: usize = f.chains.iter().map(|c| c.segments.len()).sum();
+    assert!(
+        n <= truth.len(),
+        "{name}: {n} segments for {} planted",
+        truth.len()
+    );
+    let profile = profile_error(&f.chains, truth);
+    assert!(profile <= 0.05, "{name}: curvature profile {profile} off");
+    let off = distance_between(&f.chains, truth);
+    assert!(
+        off <= f.tolerance,
+        "{name}: {off} from the planted curve, tolerance {}",
+        f.tolerance
+    );
+    // The tolerance is raised no further than the noise asks: three times its σ, or where the
+    // noise is Gaussian the largest excursion n samples of it are expected to reach,
+    // √(2 ln n) σ (3.4 σ at 300 samples), within the accuracy of σ's estimate.
+    let n = stroke.samples.len() as f64;
+    let expected_excursion = (2.0 * n.ln()).sqrt() * noise;
+    let allowed = units
+        .default_tolerance()
+        .max(3.0 * noise)
+        .max(ESTIMATE_MARGIN * expected_excursion);
+    assert!(
+        f.tolerance <= allowed,
+        "{name}: tolerance {} for noise {noise}",
+        f.tolerance
+    );
+    assert!(f.chains.iter().all(|c| c.within_tolerance), "{name}");
+}
+
+/// The true noise of whole-pixel rounding, per axis.
+fn pixel_noise() -> f64 {
+    1.0 / 12f64.sqrt()
+}
+
+#[test]
+fn planted_chains_on_a_whole_pixel_grid_come_back_as_planted() {
+    for case in cases() {
+        let t = truth(&case, Point::new(100.3, 50.6), 1.0);
+        // Sampled every 2.7, 0.9 and 0.3 px of curve (a fast mouse to a slow one).
+        for n in [case.samples / 3, case.samples, case.samples * 3] {
+            let stroke = samples(&t, n, |p| Point::new(p.x.round(), p.y.round()));
+            let name = format!("{}, {n} samples, whole pixels", case.name);
+            check(&name, &t, &stroke, Units::Px, pixel_noise());
+        }
+    }
+}
+
+#[test]
+fn planted_chains_with_tablet_noise_come_back_as_planted() {
+    for (k, case) in cases().iter().enumerate() {
+        // A quarter of the size in millimetres with 0.02 mm of noise: a tablet's pen.
+        let t = truth(case, Point::new(20.0, 30.0), 0.25);
+        let mut rng = Rng::new(11 + k as u64);
+        let stroke = samples(&t, case.samples, |p| {
+            p + Vec2::new(0.02 * rng.normal(), 0.02 * rng.normal())
+        });
+        check(
+            &format!("{}, 0.02 mm noise", case.name),
+            &t,
+            &stroke,
+            Units::Mm,
+            0.02,
+        );
+    }
+}
+
+#[test]
+fn planted_chains_with_jitter_on_a_pixel_grid_come_back_as_planted() {
+    // A shaky hand on a whole-pixel grid: 0.3 px of jitter, then rounding.
+    for (k, case) in cases().iter().enumerate() {
+        let t = truth(case, Point::new(100.3, 50.6), 1.0);
+        let mut rng = Rng::new(23 + k as u64);
+        let stroke = samples(&t, case.samples, |p| {
+            let q = p + Vec2::new(0.3 * rng.normal(), 0.3 * rng.normal());
+            Point::new(q.x.round(), q.y.round())
+        });
+        let noise = (0.3f64 * 0.3 + pixel_noise().powi(2)).sqrt();
+        check(
+            &format!("{}, jitter 0.3 px on pixels", case.name),
+            &t,
+            &stroke,
+            Units::Px,
+            noise,
+        );
+    }
+}
