@@ -92,6 +92,18 @@ fn check(name: &str, file: &StrokeFile, out: &FitOutput) -> (usize, usize, usize
                 "{here}: segment {i} has α {:?} from no search",
                 s.segment.alpha()
             );
+            // An α on the range's bound says so (the default range is [−3, 3]).
+            let on_bound = s
+                .segment
+                .alpha()
+                .is_some_and(|a| a.abs() >= 3.0 - kansei::chain::ALPHA_BOUND_TOLERANCE);
+            assert_eq!(
+                on_bound,
+                s.alpha_bound.is_some(),
+                "{here}: segment {i} α {:?}, bound {:?}",
+                s.segment.alpha(),
+                s.alpha_bound
+            );
         }
         // Every represented sample within the tolerance of the whole chain, measured here.
         let grids: Vec<_> = chain.segments.iter().map(|s| grid_of(&s.segment)).collect();

@@ -191,3 +191,80 @@ fn planted_chains_with_jitter_on_a_pixel_grid_come_back_as_planted() {
         );
     }
 }
+
+/// The fitted chain of a planted stroke with `options`.
+fn chain_with(stroke: &Stroke, options: &PipelineOptions) -> Chain {
+    let StrokeOutcome::Curves(mut curves) = fit_with_noise(stroke, 0, Units::Px, options) else {
+        panic!("curves");
+    };
+    assert_eq!(curves.len(), 1, "one piece");
+    curves.remove(0).chain.expect("chain")
+}
+
+/// Root mean square of all the chain's sample distances.
+fn rms(chain: &Chain) -> f64 {
+    let (mut sum, mut n) = (0.0, 0.0);
+    for s in &chain.segments {
+        let count = (s.samples.1 - s.samples.0 + 1) as f64;
+        sum += s.rms_deviation.powi(2) * count;
+        n += count;
+    }
+    (sum / n).sqrt()
+}
+
+#[test]
+fn a_clear_spiral_has_a_determined_alpha_near_the_planted_one() {
+    // One α = 1 segment whose curvature rises fivefold, with light noise.
+    let t = planted_at(Point::new(50.0, 50.0), 0.004, &[(220.0, Some(1.0), 0.02)]);
+    let mut rng = Rng::new(5);
+    let stroke = samples(&t, 300, |p| {
+        p + Vec2::new(0.1 * rng.normal(), 0.1 * rng.normal())
+    });
+    let chain = chain_with(&stroke, &PipelineOptions::default());
+    assert_eq!(chain.segments.len(), 1);
+    let s = &chain.segments[0];
+    let alpha = s.segment.alpha().expect("a spiral");
+    let u = s.alpha_uncertainty.expect("an uncertainty");
+    assert!(s.alpha_determined(), "α {alpha} ± {u}");
+    assert_eq!(s.alpha_bound, None);
+    assert!((alpha - 1.0).abs() <= (3.0 * u).max(0.1), "α {alpha} ± {u}");
+    // The search reaches the minimum it claims: α fixed away from its answer fits no better.
+    let free = rms(&chain);
+    for delta in [-0.3, -0.1, 0.1, 0.3] {
+        let mut options = PipelineOptions::default();
+        options.chain.alpha = kansei::lac::AlphaChoice::Fixed(alpha + delta);
+        let forced = chain_with(&stroke, &options);
+        if forced.segments.len() != 1 {
+            continue;
+        }
+        assert!(
+            rms(&forced) >= free * (1.0 - 1e-3),
+            "α fixed at {}: rms {} below the search's {free} at {alpha}",
+            alpha + delta,
+            rms(&forced)
+        );
+        // A fixed α is the user's: no bound, no uncertainty.
+        assert_eq!(forced.segments[0].alpha_bound, None);
+        assert_eq!(forced.segments[0].alpha_uncertainty, None);
+    }
+}
+
+#[test]
+fn a_near_arc_says_its_alpha_is_undetermined() {
+    // Curvature varying by 2 % over the segment: every α draws nearly the same curve.
+    let t = planted_at(Point::new(50.0, 50.0), 0.01, &[(200.0, Some(0.5), 0.0102)]);
+    let mut rng = Rng::new(9);
+    let stroke = samples(&t, 300, |p| {
+        p + Vec2::new(0.1 * rng.normal(), 0.1 * rng.normal())
+    });
+    let chain = chain_with(&stroke, &PipelineOptions::default());
+    for s in &chain.segments {
+        // An arc (no α), or an α the record does not present as a finding.
+        assert!(
+            s.segment.alpha().is_none() || !s.alpha_determined(),
+            "α {:?} ± {:?} on a near arc",
+            s.segment.alpha(),
+            s.alpha_uncertainty
+        );
+    }
+}

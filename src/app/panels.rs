@@ -331,7 +331,10 @@ pub fn segment_table(
                         commands.push(Command::Select((!is_selected).then_some(selection)));
                     }
                     let s = &seg.segment;
-                    ui.label(s.alpha().map_or("arc/line".into(), |a| format!("{a:.3}")));
+                    ui.label(alpha_text(seg)).on_hover_text(
+                        "α ± its standard error; \"bound\": on the range's end (the search met \
+                         its wall); \"?\": the samples do not determine it (a near arc or line)",
+                    );
                     ui.label(format!("{:.3}", s.length()));
                     ui.label(format!("{:.4}", s.kappa0()));
                     ui.label(format!("{:.4}", s.kappa1()));
@@ -358,4 +361,24 @@ pub fn segment_table(
 /// A row's name: stroke, piece and segment, counted from 1.
 pub fn segment_name(stroke: usize, s: Selection) -> String {
     format!("{}.{}.{}", stroke + 1, s.piece + 1, s.segment + 1)
+}
+
+/// A segment's α as the table shows it: `arc/line` without one, the value with its standard
+/// error where estimated, and a mark where it sits on the range's bound (`bound`) or the samples
+/// do not determine it (`?`).
+pub fn alpha_text(seg: &crate::chain::ChainSegment) -> String {
+    let Some(alpha) = seg.segment.alpha() else {
+        return "arc/line".into();
+    };
+    let value = match seg.alpha_uncertainty.filter(|u| u.is_finite()) {
+        Some(u) => format!("{alpha:.2} ± {u:.2}"),
+        None => format!("{alpha:.3}"),
+    };
+    if seg.alpha_bound.is_some() {
+        format!("{value} bound")
+    } else if seg.alpha_uncertainty.is_some() && !seg.alpha_determined() {
+        format!("{value} ?")
+    } else {
+        value
+    }
 }

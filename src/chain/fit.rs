@@ -2,6 +2,9 @@ use rustc_hash::FxHashSet;
 
 use serde::{Deserialize, Serialize};
 
+use super::alpha_evidence::{
+    ALPHA_DIFFERENCE_STEP, AlphaBound, UNDETERMINED_ALPHA, alpha_uncertainty,
+};
 use super::refine::{RefineOptions, refine};
 use super::smooth::{Continuity, SmoothInput, smooth_chain};
 use super::state::{Joint, SegmentKey, State};
@@ -160,6 +163,23 @@ pub struct ChainSegment {
     /// The B-spline parameter interval its samples' foot points span (`None` without samples):
     /// where to compare it with the B-spline.
     pub params: Option<(f64, f64)>,
+    /// The end of the allowed α range its α sits on (`None`: an interior α, no α, or a fixed
+    /// one): a search stopped there found a wall, not a minimum.
+    pub alpha_bound: Option<AlphaBound>,
+    /// The standard error of its α given its joints ([`super::alpha_evidence`]); `None` where
+    /// α is absent or fixed, or was not estimated (the smooth fit's segments); +∞ where the
+    /// samples do not move with α at all.
+    pub alpha_uncertainty: Option<f64>,
+}
+
+impl ChainSegment {
+    /// Whether the samples determine its α: an α with an uncertainty of at most
+    /// [`UNDETERMINED_ALPHA`]. False for an arc or a line (no α), a fixed α (the user's) and an
+    /// α without an estimate.
+    pub fn alpha_determined(&self) -> bool {
+        self.alpha_uncertainty
+            .is_some_and(|u| u <= UNDETERMINED_ALPHA)
+    }
 }
 
 /// The chain of one piece.
@@ -1092,6 +1112,7 @@ impl<'a> Fitter<'a> {
                 },
             );
             let range = ranges[k];
+            let alpha = evaluated.segment.alpha();
             segments.push(ChainSegment {
                 segment: evaluated.segment,
                 samples: range,
@@ -1101,6 +1122,8 @@ impl<'a> Fitter<'a> {
                 start: state.joints[k].kind,
                 end: state.joints[k + 1].kind,
                 params,
+                alpha_bound: AlphaBound::of(alpha, self.options.alpha),
+                alpha_uncertainty: self.alpha_uncertainty(state, k, evaluated),
             });
         }
         let max_deviation = self.chain_deviation(state, &evaluated);
@@ -1111,6 +1134,38 @@ impl<'a> Fitter<'a> {
             refined: self.options.refine,
             continuity: Continuity::G1,
         })
+    }
+
+    /// The standard error of segment `k`'s α given its joints: its samples' distances at α ± h,
+    /// the segment rebuilt through the same joints ([`alpha_uncertainty`]). `None` for no α or
+    /// a fixed one.
+    fn alpha_uncertainty(
+        &self,
+        state: &State,
+        k: usize,
+        evaluated: &super::state::Evaluated,
+    ) -> Option<f64> {
+        let alpha = evaluated.segment.alpha()?;
+        if matches!(self.options.alpha, AlphaChoice::Fixed(_)) {
+            return None;
+        }
+        let (a, b) = (state.joints[k], state.joints[k + 1]);
+        let n = state.samples[k].len();
+        let probe = |x: f64| {
+            state
+                .sample_residuals_with(k, &a, &b, x, evaluated)
+                .ok()
+                .filter(|r| r.len() >= n)
+        };
+        let (minus, plus) = (
+            probe(alpha - ALPHA_DIFFERENCE_STEP),
+            probe(alpha + ALPHA_DIFFERENCE_STEP),
+        );
+        alpha_uncertainty(
+            &evaluated.residuals[..n],
+            minus.as_deref().map(|r| &r[..n]),
+            plus.as_deref().map(|r| &r[..n]),
+        )
     }
 
     /// The largest distance from a sample to the chain (see [`nearest_deviation`]).

@@ -18,11 +18,15 @@
 //! (which separates pieces).
 //! Fewer segments are better, as the seed paper's future work asks.
 
+pub mod alpha_evidence;
 mod band;
 mod fit;
 mod refine;
 pub mod smooth;
 mod state;
 
+pub use alpha_evidence::{
+    ALPHA_BOUND_TOLERANCE, ALPHA_DIFFERENCE_STEP, AlphaBound, UNDETERMINED_ALPHA, alpha_uncertainty,
+};
 pub use fit::{Chain, ChainError, ChainInput, ChainOptions, ChainSegment, JointKind, fit_chain};
 pub use smooth::Continuity;

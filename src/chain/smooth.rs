@@ -1552,6 +1552,10 @@ fn finish(
                 max_deviation: max,
                 rms_deviation: rms,
                 search: smooth.chain.segments[layout.origin[k]].search.clone(),
+                alpha_bound: super::AlphaBound::of(e.segments[k].alpha(), smooth.alpha),
+                // Not estimated for the smooth fit's segments: α there shares the joints'
+                // curvature with the neighbours, and a one-segment difference would misstate it.
+                alpha_uncertainty: None,
                 start: layout.kinds[k],
                 end: if k + 1 < n {
                     layout.kinds[k + 1]

@@ -300,6 +300,19 @@ pub struct SegmentRecord {
     pub end_joint: crate::chain::JointKind,
     /// The α search that started the segment (refinement may have moved α since).
     pub alpha_search: crate::lac::AlphaSearch,
+    /// The end of the allowed α range that α sits on (`min`, `max`; absent for an interior α):
+    /// the search met the range's wall there, not a minimum.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub alpha_bound: Option<crate::chain::AlphaBound>,
+    /// The standard error of α given the segment's joints (absent where α is null or fixed, where
+    /// it was not estimated, and where the samples do not move with α at all).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub alpha_uncertainty: Option<f64>,
+    /// Whether the samples determine α (an uncertainty of at most 0.5, the distance between
+    /// the family's special values being 1); absent where α is null or fixed. Where false, α is
+    /// the search's pick among near-equals (a near arc, a near line, too few samples).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub alpha_determined: Option<bool>,
     /// The logarithmic curvature graphs, when asked for.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub lcg: Option<LcgRecord>,
@@ -350,6 +363,13 @@ impl SegmentRecord {
             start_joint: seg.start,
             end_joint: seg.end,
             alpha_search: seg.search.clone(),
+            alpha_bound: seg.alpha_bound,
+            alpha_uncertainty: seg.alpha_uncertainty.filter(|u| u.is_finite()),
+            alpha_determined: seg
+                .segment
+                .alpha()
+                .filter(|_| seg.alpha_uncertainty.is_some() || seg.alpha_bound.is_some())
+                .map(|_| seg.alpha_determined() && seg.alpha_bound.is_none()),
             lcg,
         }
     }
