@@ -26,6 +26,10 @@ pub struct PipelineOptions {
     /// worst rounding of its coordinate grid and the largest excursion of its jitter,
     /// [`crate::stroke::noise_multiple`]). Default true; off, every stroke gets the unit's default, as the seed paper did.
     pub noise_floor: bool,
+    /// The tolerance a stroke starts from when `tolerance` is not given, before its noise floor
+    /// raises it. Default `None`: the unit's default ([`Units::default_tolerance`]). The app sets
+    /// it from screen pixels at the zoom a stroke was drawn at.
+    pub base_tolerance: Option<f64>,
     /// Corner turning angle, degrees. Default 70 (see [`CornerOptions`]).
     pub corner_angle: f64,
     /// Keep the pen's landing and lifting as drawn: its hooks and its dwell. Default false.
@@ -50,6 +54,7 @@ impl Default for PipelineOptions {
         PipelineOptions {
             tolerance: None,
             noise_floor: true,
+            base_tolerance: None,
             corner_angle: 70.0,
             keep_hooks: false,
             max_segments: 4096,
@@ -70,15 +75,16 @@ impl PipelineOptions {
     }
 
     /// The tolerance one stroke is fitted to, with the noise it was chosen by: the given
-    /// tolerance, or the unit's default raised to the stroke's noise floor (when
-    /// [`PipelineOptions::noise_floor`] is on).
+    /// tolerance, or the base tolerance ([`PipelineOptions::base_tolerance`], by default the
+    /// unit's) raised to the stroke's noise floor (when [`PipelineOptions::noise_floor`] is on).
     pub fn stroke_tolerance(&self, stroke: &Stroke, units: Units) -> StrokeTolerance {
         let points: Vec<crate::geom::Point> = stroke.samples.iter().map(|s| s.point()).collect();
         let noise = NoiseFloor::estimate(&points);
+        let base = self.base_tolerance.unwrap_or(units.default_tolerance());
         let tolerance = match self.tolerance {
             Some(t) => t,
-            None if self.noise_floor => units.default_tolerance().max(noise.floor),
-            None => units.default_tolerance(),
+            None if self.noise_floor => base.max(noise.floor),
+            None => base,
         };
         StrokeTolerance { tolerance, noise }
     }

@@ -282,6 +282,7 @@ fn fixing_alpha_refits_the_selected_stroke_at_once() {
     draw_arc(&mut harness);
     wait_for_fits(&mut harness);
     let revision = harness.state().document().strokes()[0].revision;
+    let drawn = harness.state().document().strokes()[0].settings;
     harness.get_by_label("1.1.1").click();
     harness.step();
     harness.get_by_label("fixed").click();
@@ -308,10 +309,7 @@ fn fixing_alpha_refits_the_selected_stroke_at_once() {
     // Undo restores the range and refits again.
     harness.get_by_label("Undo").click();
     harness.step();
-    assert_eq!(
-        harness.state().document().strokes()[0].settings,
-        kansei::app::document::FitSettings::default()
-    );
+    assert_eq!(harness.state().document().strokes()[0].settings, drawn);
 }
 
 #[test]
@@ -783,4 +781,45 @@ fn exports_get_their_own_paths_and_ask_before_replacing_a_file() {
         harness.state().status()
     );
     let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// The tolerance the selected (only) stroke was fitted to, its noise floor, and its segments.
+fn fitted_tolerance(harness: &Harness<'static, KanseiApp>) -> (f64, f64, usize) {
+    let curves = &harness.state().scene().curves;
+    let first = curves.first().expect("a fitted curve");
+    let floor = first.noise.expect("the stroke's noise").floor;
+    (first.tolerance, floor, segment_count(harness))
+}
+
+#[test]
+fn a_drawn_stroke_gets_its_tolerance_from_the_screen_and_the_presets_refit_it() {
+    let mut harness = harness(AppOptions::default());
+    draw_arc(&mut harness);
+    wait_for_fits(&mut harness);
+    let settings = harness.state().document().strokes()[0].settings;
+    let k = settings.pixels_per_unit.expect("drawn at a zoom");
+    assert_eq!(settings.tolerance, None);
+    // The normal preset: 1.5 screen pixels at the zoom it was drawn at, unless the noise asks
+    // for more.
+    let (normal, floor, normal_count) = fitted_tolerance(&harness);
+    assert_eq!(normal, (1.5 / k).max(floor), "{normal} at {k} px per unit");
+    harness.get_by_label("1.1.1").click();
+    harness.step();
+    harness.step();
+    harness.get_by_label_contains("fitted to");
+    harness.get_by_label("loose").click();
+    harness.step();
+    wait_for_fits(&mut harness);
+    let (loose, _, loose_count) = fitted_tolerance(&harness);
+    assert_eq!(loose, (4.0 / k).max(floor));
+    assert!(
+        loose_count <= normal_count,
+        "{loose_count} > {normal_count}"
+    );
+    harness.get_by_label("tight").click();
+    harness.step();
+    wait_for_fits(&mut harness);
+    let (tight, _, tight_count) = fitted_tolerance(&harness);
+    assert_eq!(tight, (0.5 / k).max(floor));
+    assert!(tight_count >= loose_count, "{tight_count} < {loose_count}");
 }

@@ -33,6 +33,54 @@ pub struct FitSettings {
     pub corner_angle: f64,
     /// Continuity at the chain's smooth joints (default as [`ChainOptions::default`]).
     pub continuity: Continuity,
+    /// How closely a stroke drawn in the app is followed, in screen pixels at the zoom it was
+    /// drawn at (used when `tolerance` is `None` and the stroke has `pixels_per_unit`). Default
+    /// [`ScreenTolerance::Normal`].
+    pub screen: ScreenTolerance,
+    /// Screen pixels per document unit when the stroke was drawn (`None` for strokes read from
+    /// a file, which get the unit's default).
+    pub pixels_per_unit: Option<f64>,
+}
+
+/// Tolerance presets for strokes drawn in the app, in screen pixels at the zoom they were drawn
+/// at: what the designer could see of the difference. Each stroke's noise floor may raise it
+/// further (a mouse's whole pixels: 0.71 px).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum ScreenTolerance {
+    /// Half a pixel: every visible wobble is kept.
+    Tight,
+    /// One and a half pixels: the line's own width; the default.
+    #[default]
+    Normal,
+    /// Four pixels: the gesture, not its tremor.
+    Loose,
+}
+
+impl ScreenTolerance {
+    /// Every preset, tightest first.
+    pub const ALL: [ScreenTolerance; 3] = [
+        ScreenTolerance::Tight,
+        ScreenTolerance::Normal,
+        ScreenTolerance::Loose,
+    ];
+
+    /// The preset's screen pixels.
+    pub const fn pixels(self) -> f64 {
+        match self {
+            ScreenTolerance::Tight => 0.5,
+            ScreenTolerance::Normal => 1.5,
+            ScreenTolerance::Loose => 4.0,
+        }
+    }
+
+    /// The preset's name in the panel.
+    pub const fn name(self) -> &'static str {
+        match self {
+            ScreenTolerance::Tight => "tight",
+            ScreenTolerance::Normal => "normal",
+            ScreenTolerance::Loose => "loose",
+        }
+    }
 }
 
 impl Default for FitSettings {
@@ -43,6 +91,8 @@ impl Default for FitSettings {
             alpha: pipeline.chain.alpha,
             corner_angle: pipeline.corner_angle,
             continuity: pipeline.chain.continuity,
+            screen: ScreenTolerance::default(),
+            pixels_per_unit: None,
         }
     }
 }
@@ -52,6 +102,7 @@ impl FitSettings {
     pub fn pipeline_options(&self) -> PipelineOptions {
         PipelineOptions {
             tolerance: self.tolerance,
+            base_tolerance: self.base_tolerance(),
             corner_angle: self.corner_angle,
             chain: ChainOptions {
                 alpha: self.alpha,
@@ -60,6 +111,14 @@ impl FitSettings {
             },
             ..PipelineOptions::default()
         }
+    }
+
+    /// The tolerance a stroke drawn in the app starts from: the preset's screen pixels at the
+    /// zoom it was drawn at (`None` for a stroke read from a file).
+    pub fn base_tolerance(&self) -> Option<f64> {
+        self.pixels_per_unit
+            .filter(|k| k.is_finite() && *k > 0.0)
+            .map(|k| self.screen.pixels() / k)
     }
 
     /// Whether the pipeline accepts these settings: a positive finite tolerance (when given),

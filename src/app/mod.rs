@@ -307,6 +307,15 @@ impl KanseiApp {
         self.status = Some(Status { text, error: false });
     }
 
+    /// The settings of a stroke drawn now: those for new strokes, with the zoom it is drawn at
+    /// (its screen tolerance preset is in screen pixels at that zoom).
+    fn drawn_settings(&self) -> FitSettings {
+        FitSettings {
+            pixels_per_unit: self.canvas.view().map(|v| v.pixels_per_unit),
+            ..self.view.new_stroke_settings
+        }
+    }
+
     /// The settings the panel shows: the selected stroke's, else those for new strokes.
     pub fn current_settings(&self) -> FitSettings {
         self.selected_stroke()
@@ -605,7 +614,7 @@ impl KanseiApp {
             }
             self.execute(Command::Edit(Edit::AddStroke {
                 stroke,
-                settings: self.view.new_stroke_settings,
+                settings: self.drawn_settings(),
             }));
         }
     }
@@ -667,7 +676,7 @@ impl KanseiApp {
                 revision: self.preview.revision,
                 stroke,
                 units: self.doc.units(),
-                options: self.view.new_stroke_settings.pipeline_options(),
+                options: self.drawn_settings().pipeline_options(),
             });
         }
     }
@@ -726,11 +735,19 @@ impl KanseiApp {
                     ui.separator();
                 }
                 let editing = self.selected_stroke().is_some();
+                let fitted = self
+                    .selected_stroke()
+                    .and_then(|id| self.doc.find(id))
+                    .and_then(|(_, stroke)| match self.fits.get(stroke) {
+                        Some(worker::FitState::Done(curves)) => panels::FittedSummary::of(curves),
+                        _ => None,
+                    });
                 panels::settings(
                     ui,
                     self.current_settings(),
                     self.doc.units(),
                     editing,
+                    fitted,
                     &mut commands,
                 );
                 ui.separator();
@@ -779,7 +796,7 @@ impl KanseiApp {
             if let Some(stroke) = self.canvas.ui(ui, &scene, key, &options) {
                 commands.push(Command::Edit(Edit::AddStroke {
                     stroke,
-                    settings: self.view.new_stroke_settings,
+                    settings: self.drawn_settings(),
                 }));
             }
             // A click selects the segment under it, or clears the selection.

@@ -7,7 +7,7 @@ use eframe::egui;
 use egui::{DragValue, RichText, ScrollArea, Ui};
 
 use super::Command;
-use super::document::{Document, FitSettings};
+use super::document::{Document, FitSettings, ScreenTolerance};
 use super::files::{ExportKind, export_path};
 use super::replay::{Replay, SPEED_RANGE};
 use super::scene::{SceneData, Selection};
@@ -123,6 +123,7 @@ pub fn settings(
     current: FitSettings,
     units: Units,
     editing_selected: bool,
+    fitted: Option<FittedSummary>,
     commands: &mut Vec<Command>,
 ) {
     ui.heading("Fit");
@@ -132,21 +133,64 @@ pub fn settings(
         "new strokes"
     });
     let mut s = current;
-    let mut tolerance = s.tolerance.unwrap_or(units.default_tolerance());
+    // The tolerance: a screen preset (the noise floor may raise it) or a number of units.
+    let mut custom = s.tolerance.is_some();
     ui.horizontal(|ui| {
-        let label = ui.label("tolerance");
-        let step = units.default_tolerance() / 10.0;
-        ui.add(
-            DragValue::new(&mut tolerance)
-                .speed(step)
-                .range(step..=f64::MAX)
-                .suffix(format!(" {}", units.name())),
-        )
-        .labelled_by(label.id);
+        ui.label("tolerance");
+        for preset in ScreenTolerance::ALL {
+            let chosen = !custom && s.screen == preset;
+            if ui
+                .selectable_label(chosen, preset.name())
+                .on_hover_text(format!(
+                    "{} screen px at the zoom the stroke was drawn at, raised to its noise floor",
+                    preset.pixels()
+                ))
+                .clicked()
+            {
+                s.screen = preset;
+                custom = false;
+            }
+        }
+        if ui.selectable_label(custom, "custom").clicked() {
+            custom = true;
+        }
     });
-    if tolerance != s.tolerance.unwrap_or(units.default_tolerance()) {
+    if custom {
+        let mut tolerance = s
+            .tolerance
+            .or(fitted.map(|f| f.tolerance))
+            .unwrap_or(units.default_tolerance());
+        ui.horizontal(|ui| {
+            let label = ui.label("custom");
+            let step = units.default_tolerance() / 10.0;
+            ui.add(
+                DragValue::new(&mut tolerance)
+                    .speed(step)
+                    .range(step..=f64::MAX)
+                    .suffix(format!(" {}", units.name())),
+            )
+            .labelled_by(label.id);
+        });
         s.tolerance = Some(tolerance);
+    } else {
+        s.tolerance = None;
     }
+    // One line either way, so that selecting a stroke does not move the controls below.
+    ui.label(match fitted {
+        Some(f) => format!(
+            "fitted to {:.3} {} (noise floor {:.3}): {} segment{}",
+            f.tolerance,
+            units.name(),
+            f.floor,
+            f.segments,
+            if f.segments == 1 { "" } else { "s" }
+        ),
+        None if custom => "raised to no stroke's noise floor".to_owned(),
+        None => format!(
+            "{} screen px where drawn, or the noise floor",
+            s.screen.pixels()
+        ),
+    });
 
     let mut fixed = matches!(s.alpha, AlphaChoice::Fixed(_));
     ui.horizontal(|ui| {
@@ -380,5 +424,32 @@ pub fn alpha_text(seg: &crate::chain::ChainSegment) -> String {
         format!("{value} ?")
     } else {
         value
+    }
+}
+
+/// What the selected stroke's fit came to, shown under its tolerance settings.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct FittedSummary {
+    /// The tolerance it was fitted to, in the document's units.
+    pub tolerance: f64,
+    /// Its noise floor.
+    pub floor: f64,
+    /// Its segments, over all pieces.
+    pub segments: usize,
+}
+
+impl FittedSummary {
+    /// The summary of a stroke's fitted pieces (`None` without pieces).
+    pub fn of(curves: &[crate::pipeline::CurveFit]) -> Option<FittedSummary> {
+        let first = curves.first()?;
+        Some(FittedSummary {
+            tolerance: first.tolerance,
+            floor: first.noise.map_or(0.0, |n| n.floor),
+            segments: curves
+                .iter()
+                .filter_map(|c| c.chain.as_ref())
+                .map(|c| c.segments.len())
+                .sum(),
+        })
     }
 }
