@@ -80,6 +80,11 @@ const MERGE_UNREACHABLE_FACTOR: f64 = 1.5;
 /// tolerance against 0.237); 2 saves 2 % more for 6 more segments; 4 saves 6 % for none.
 const MERGE_ABANDON_FACTOR: f64 = 3.0;
 
+/// Longest run of segments [`Fitter::merge_fewest`] tries to replace by one: past eight, a run
+/// that the greedy merges and the cuts left apart is as good as never one segment, and every run
+/// costs an α search.
+const MAX_MERGE_RUN: usize = 8;
+
 /// Options of [`fit_chain`].
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct ChainOptions {
@@ -284,7 +289,8 @@ pub fn fit_chain(
     if options.merge {
         let straightened = fitter.straighten(&mut state, &mut searches);
         let merged = fitter.merge(&mut state, &mut searches);
-        if (straightened || merged) && options.refine {
+        let fewer = fitter.merge_fewest(&mut state, &mut searches);
+        if (straightened || merged || fewer) && options.refine {
             fitter.refine_guarded(&mut state, &refine_options, &mut settled);
         }
     }
@@ -1036,6 +1042,121 @@ impl<'a> Fitter<'a> {
             j += 1;
         }
         merged
+    }
+
+    /// Merges runs of segments into single segments so that the chain has the fewest segments
+    /// that hold the tolerance over its current joints, then the smallest sum of squared
+    /// distances: a shortest path over the joints (dynamic programming), each edge one segment
+    /// through two joints' positions and tangents, searched for its α like a merge. The greedy
+    /// [`Fitter::merge`] takes the first pair that fits, which can block two merges that fit
+    /// together; this sees every run of up to [`MAX_MERGE_RUN`] segments. Only the joints a merge
+    /// may drop (curvature extrema, inflections, subdivisions) are skipped; a run whose merged
+    /// segment misses a sample by more than [`MERGE_ABANDON_FACTOR`] tolerances ends the longer
+    /// runs through it too. Returns whether the chain changed.
+    fn merge_fewest(&self, state: &mut State<'a>, searches: &mut Vec<AlphaSearch>) -> bool {
+        let m = state.len();
+        if m < 2 {
+            return false;
+        }
+        let removable = |j: usize| {
+            matches!(
+                state.joints[j].kind,
+                JointKind::CurvatureExtremum | JointKind::Subdivision | JointKind::Inflection
+            )
+        };
+        let squares = |d: &[f64]| d.iter().map(|r| r * r).sum::<f64>();
+        let own: Vec<f64> = (0..m)
+            .map(|k| {
+                state
+                    .evaluate(k, self.chord_error)
+                    .map(|e| squares(&e.residuals[..state.samples[k].len()]))
+                    .unwrap_or(f64::INFINITY)
+            })
+            .collect();
+        // best[j]: (segments, sum of squares, where the last segment starts, its merged fit).
+        type Step = (usize, f64, usize, Option<(f64, AlphaSearch, LacSegment, Deviation)>);
+        let mut best: Vec<Step> = Vec::with_capacity(m + 1);
+        best.push((0, 0.0, 0, None));
+        for j in 1..=m {
+            let mut choice: Step = (best[j - 1].0 + 1, best[j - 1].1 + own[j - 1], j - 1, None);
+            let lowest = j.saturating_sub(MAX_MERGE_RUN);
+            let mut i = j - 1;
+            while i > lowest && removable(i) {
+                i -= 1;
+                // Segments i..j as one.
+                if best[i].0 + 1 > choice.0 {
+                    continue;
+                }
+                let union: Vec<usize> = state.samples[i..j].iter().flatten().copied().collect();
+                if union.len() < MIN_SPAN_SAMPLES {
+                    continue;
+                }
+                let weights: f64 = state.samples[i..j].iter().map(|l| l.len() as f64).sum();
+                let guess = state.samples[i..j]
+                    .iter()
+                    .zip(&state.alphas[i..j])
+                    .map(|(l, a)| l.len() as f64 * a)
+                    .sum::<f64>()
+                    / weights.max(1.0);
+                let (a, b) = (state.joints[i], state.joints[j]);
+                let found = self.search(
+                    &a,
+                    &b,
+                    &union,
+                    (a.u, b.u),
+                    Some(guess),
+                    (
+                        MERGE_ABANDON_FACTOR * self.tolerance,
+                        MERGE_UNREACHABLE_FACTOR * self.tolerance,
+                    ),
+                );
+                let Ok(found) = found else {
+                    break;
+                };
+                let Some((segment, deviation)) = found.fit else {
+                    continue;
+                };
+                if deviation.max > self.tolerance || !within(&segment, self.max_curvature) {
+                    if found.max > MERGE_ABANDON_FACTOR * self.tolerance {
+                        break;
+                    }
+                    continue;
+                }
+                let total = best[i].1 + squares(&deviation.distances);
+                let count = best[i].0 + 1;
+                if count < choice.0 || (count == choice.0 && total < choice.1) {
+                    choice = (count, total, i, Some((found.alpha, found.search, segment, deviation)));
+                }
+            }
+            best.push(choice);
+        }
+        if best[m].0 >= m {
+            return false;
+        }
+        // Walk back along the path, merging from the end so earlier indices stay valid.
+        let mut trial = state.clone();
+        let mut trial_searches = searches.clone();
+        let mut j = m;
+        while j > 0 {
+            let (_, _, i, merged) = best[j].clone();
+            if let Some((alpha, search, segment, deviation)) = merged {
+                let union: Vec<usize> = trial.samples[i..j].iter().flatten().copied().collect();
+                trial.joints.drain(i + 1..j);
+                trial.alphas.splice(i..j, [alpha]);
+                trial.samples.splice(i..j, [union]);
+                trial_searches.splice(i..j, [search]);
+                trial.remember(i, segment, deviation, self.chord_error);
+            }
+            j = i;
+        }
+        let holds = (0..trial.len()).all(|k| {
+            matches!(trial.evaluate(k, self.chord_error), Ok(e) if e.max <= self.tolerance)
+        });
+        if holds {
+            *state = trial;
+            *searches = trial_searches;
+        }
+        holds
     }
 
     /// The output segments with their sample ranges and deviations.
