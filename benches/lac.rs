@@ -18,7 +18,9 @@
 //!    call) on the G1 data (end points and end tangents) of `LacSegment::new(origin, 0, L, Some(α),
 //!    0.1, 0.02)` with L = [`FIT_G1_LENGTH`], solved for the same α (the data are reachable).
 //! 3. `pipeline_all_strokes/…`: one pass over every stroke of `fixtures/strokes/*.json` (37
-//!    strokes), each stroke with its file's default tolerance (`file.units.default_tolerance()`):
+//!    strokes), each stroke with the default mode's tolerance (the unit's default raised to the
+//!    stroke's noise floor, [`PipelineOptions::stroke_tolerance`]; the full pipeline estimates
+//!    the noise inside its timed run, the others are handed the result):
 //!    * `kansei_splits_only`: [`fit_stroke`] with [`PipelineOptions::splits_only`] (prepare,
 //!      B-spline, split; no LAC stage);
 //!    * `kurbo_simplify`: `kurbo::simplify_bezpath(polyline, tolerance, &SimplifyOptions::default())`
@@ -109,6 +111,7 @@ struct Case {
     /// `file.json#index`.
     name: String,
     stroke: Stroke,
+    units: kansei::stroke::Units,
     tolerance: f64,
     /// The samples as a polyline, for kurbo.
     polyline: BezPath,
@@ -133,8 +136,11 @@ fn load_cases() -> Vec<Case> {
             .file_stem()
             .map(|s| s.to_string_lossy().into_owned())
             .unwrap_or_default();
-        let tolerance = file.units.default_tolerance();
+        let units = file.units;
         for (i, stroke) in file.strokes.into_iter().enumerate() {
+            let tolerance = PipelineOptions::default()
+                .stroke_tolerance(&stroke, units)
+                .tolerance;
             let mut polyline = BezPath::new();
             for (k, s) in stroke.samples.iter().enumerate() {
                 let p = Point::new(s.x, s.y);
@@ -147,6 +153,7 @@ fn load_cases() -> Vec<Case> {
             cases.push(Case {
                 name: format!("{stem}#{i}"),
                 stroke,
+                units,
                 tolerance,
                 polyline,
             });
@@ -253,13 +260,18 @@ impl Config {
     /// segments, spans, or Bézier segments) so that the work cannot be optimised away.
     fn run(self, case: &Case, full: &PipelineOptions, splits: &PipelineOptions) -> usize {
         match self {
-            Config::KanseiFull => fit_stroke(&case.stroke, 0, case.tolerance, full)
-                .map(|fits| {
-                    fits.iter()
-                        .map(|f| f.chain.as_ref().map_or(0, |ch| ch.segments.len()))
-                        .sum()
-                })
-                .unwrap_or(usize::MAX),
+            Config::KanseiFull => fit_stroke(
+                &case.stroke,
+                0,
+                full.stroke_tolerance(&case.stroke, case.units).tolerance,
+                full,
+            )
+            .map(|fits| {
+                fits.iter()
+                    .map(|f| f.chain.as_ref().map_or(0, |ch| ch.segments.len()))
+                    .sum()
+            })
+            .unwrap_or(usize::MAX),
             Config::KanseiSplitsOnly => fit_stroke(&case.stroke, 0, case.tolerance, splits)
                 .map(|fits| fits.iter().map(|f| f.spans.spans.len()).sum())
                 .unwrap_or(usize::MAX),
@@ -425,7 +437,7 @@ fn summary(cases: &[Case]) {
     );
     eprintln!(
         "times: median over the stroke's rounds, one interleaved run of each configuration per \
-         round; tolerance = file.units.default_tolerance()"
+         round; tolerance = the default mode's (unit default raised to the noise floor)"
     );
     eprintln!(
         "full = kansei PipelineOptions::default(); splits = PipelineOptions::splits_only(); \

@@ -8,69 +8,16 @@
 mod common;
 
 use common::Rng;
+use common::planted::{distance_to, planted, samples};
 use kansei::chain::{Chain, Continuity};
 use kansei::geom::{Point, Vec2};
 use kansei::lac::LacSegment;
 use kansei::pipeline::{PipelineOptions, fit_stroke};
-use kansei::stroke::{Sample, Stroke};
+use kansei::stroke::Stroke;
 
 /// Relative curvature jump accepted at a G2 joint: the joint's curvature is one parameter
 /// shared by both segments, so only the evaluation's rounding separates the two sides.
 const G2_JUMP: f64 = 1e-9;
-
-/// A chain laid out from the origin: each (length, α, κ at its end), starting at `kappa0`.
-fn planted(kappa0: f64, parts: &[(f64, Option<f64>, f64)]) -> Vec<LacSegment> {
-    let (mut p, mut theta, mut kappa) = (Point::ZERO, 0.0, kappa0);
-    parts
-        .iter()
-        .map(|&(length, alpha, k1)| {
-            let seg = LacSegment::new(p, theta, length, alpha, kappa, k1).expect("planted segment");
-            p = seg.end();
-            theta = seg.theta1();
-            kappa = k1;
-            seg
-        })
-        .collect()
-}
-
-/// `n` samples evenly spaced in arc length along the chain, through `quantise`.
-fn samples(chain: &[LacSegment], n: usize, mut quantise: impl FnMut(Point) -> Point) -> Stroke {
-    let total: f64 = chain.iter().map(|s| s.length()).sum();
-    let points: Vec<Point> = (0..=n)
-        .map(|i| {
-            let mut s = total * i as f64 / n as f64;
-            for seg in chain {
-                if s <= seg.length() {
-                    return quantise(seg.point(s));
-                }
-                s -= seg.length();
-            }
-            quantise(chain[chain.len() - 1].end())
-        })
-        .collect();
-    Stroke::new(
-        points
-            .iter()
-            .enumerate()
-            .map(|(i, p)| Sample::new(p.x, p.y).with_t(i as f64 * 0.008))
-            .collect(),
-    )
-}
-
-/// Distance from `q` to the planted chain (dense polyline; the chord error at these curvatures
-/// and spacing is below 1e-4).
-fn distance_to(chain: &[LacSegment], q: Point) -> f64 {
-    let mut best = f64::INFINITY;
-    for seg in chain {
-        let pts: Vec<Point> = seg.samples(0.05).map(|s| s.point).collect();
-        for w in pts.windows(2) {
-            let ab = w[1] - w[0];
-            let t = ((q - w[0]).dot(ab) / ab.hypot2()).clamp(0.0, 1.0);
-            best = best.min(q.distance(w[0] + ab * t));
-        }
-    }
-    best
-}
 
 fn fit(stroke: &Stroke, tolerance: f64, continuity: Continuity) -> Vec<Chain> {
     let mut options = PipelineOptions::default();

@@ -1074,7 +1074,12 @@ impl<'a> Fitter<'a> {
             })
             .collect();
         // best[j]: (segments, sum of squares, where the last segment starts, its merged fit).
-        type Step = (usize, f64, usize, Option<(f64, AlphaSearch, LacSegment, Deviation)>);
+        type Step = (
+            usize,
+            f64,
+            usize,
+            Option<(f64, AlphaSearch, LacSegment, Deviation)>,
+        );
         let mut best: Vec<Step> = Vec::with_capacity(m + 1);
         best.push((0, 0.0, 0, None));
         for j in 1..=m {
@@ -1125,7 +1130,12 @@ impl<'a> Fitter<'a> {
                 let total = best[i].1 + squares(&deviation.distances);
                 let count = best[i].0 + 1;
                 if count < choice.0 || (count == choice.0 && total < choice.1) {
-                    choice = (count, total, i, Some((found.alpha, found.search, segment, deviation)));
+                    choice = (
+                        count,
+                        total,
+                        i,
+                        Some((found.alpha, found.search, segment, deviation)),
+                    );
                 }
             }
             best.push(choice);
@@ -1149,9 +1159,9 @@ impl<'a> Fitter<'a> {
             }
             j = i;
         }
-        let holds = (0..trial.len()).all(|k| {
-            matches!(trial.evaluate(k, self.chord_error), Ok(e) if e.max <= self.tolerance)
-        });
+        let holds = (0..trial.len()).all(
+            |k| matches!(trial.evaluate(k, self.chord_error), Ok(e) if e.max <= self.tolerance),
+        );
         if holds {
             *state = trial;
             *searches = trial_searches;
