@@ -214,13 +214,13 @@ pub struct FitArgs {
     #[arg(long, alias = "svg-accuracy", allow_negative_numbers = true)]
     pub export_accuracy: Option<f64>,
     /// Also write a PNG (by default samples, B-spline, split markers, LAC segments coloured by
-    /// α, legend, scale bar; see --png-layers), drawn by the `render` module. With several
+    /// α, LAC joints, legend, scale bar; see --png-layers), drawn by the `render` module. With several
     /// inputs, a directory that receives `<input stem>.png` for each.
     #[arg(long)]
     pub png: Option<PathBuf>,
     /// The PNG's overlays, comma-separated, drawn instead of the default set (samples, bspline,
-    /// splits, segments, legend, scale-bar): any of samples, bspline, control-polygon, splits,
-    /// segments, comb, legend, scale-bar.
+    /// splits, segments, joints, legend, scale-bar): any of samples, bspline, control-polygon,
+    /// splits, segments, joints, comb, legend, scale-bar.
     #[arg(long, value_delimiter = ',', value_parser = crate::render::OVERLAY_NAMES)]
     pub png_layers: Option<Vec<String>>,
     /// Size of the PNG, WIDTHxHEIGHT pixels.

@@ -1075,3 +1075,68 @@ fn cli_png_layers_draw_the_overlays_named_and_the_comb_only_where_it_draws() {
     );
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+#[test]
+fn lac_joints_are_bars_across_the_chain_ink_where_g2_and_red_where_the_curvature_jumps() {
+    // The spring in G1 (its joints jump) and in G2 (where the smooth fit holds, they do not).
+    let file = common::fixture("google-ink-spring");
+    let options = RenderOptions::with_overlays(Overlays {
+        joints: true,
+        ..Overlays::NONE
+    });
+    let size = (800, 500);
+    let mut seen = (0, 0);
+    for continuity in [kansei::chain::Continuity::G1, kansei::chain::Continuity::G2] {
+        let mut pipeline = PipelineOptions::default();
+        pipeline.chain.continuity = continuity;
+        let out = fit_file(&file, &pipeline).expect("fits");
+        let scene = Scene::new(&file.strokes, &out.curves, file.units);
+        let view = fit_view(&scene, size);
+        let pixmap = render(&scene, &view, &options).expect("renders");
+        let ink = inked(&pixmap);
+        let w = size.0 as usize;
+        let mut joints = Vec::new();
+        for chain in out.curves.iter().filter_map(|c| c.chain.as_ref()) {
+            for pair in chain.segments.windows(2) {
+                let (a, b) = (&pair[0].segment, &pair[1].segment);
+                let jump = kansei::export::relative_jump(a.kappa1(), b.kappa0()).expect("finite");
+                joints.push((view.to_pixel(b.start()), jump <= 1e-9));
+            }
+        }
+        assert!(!joints.is_empty());
+        // Every inked pixel belongs to a bar: within the bar's half-length (0.7 markers) and
+        // width of a joint.
+        let reach = 0.7 * options.marker_size + 3.0;
+        for (k, _) in ink.iter().enumerate().filter(|(_, i)| **i) {
+            let q = kansei::geom::Point::new((k % w) as f64 + 0.5, (k / w) as f64 + 0.5);
+            assert!(
+                joints.iter().any(|(p, _)| p.distance(q) <= reach),
+                "{continuity:?}: ink at {q:?} away from every joint"
+            );
+        }
+        // The pixel under each joint that stands alone (no other joint within reach) is ink for
+        // a curvature-continuous joint and red for a jump.
+        for (p, continuous) in &joints {
+            if joints
+                .iter()
+                .filter(|(o, _)| o.distance(*p) <= 2.0 * reach)
+                .count()
+                > 1
+            {
+                continue;
+            }
+            let (x, y) = (p.x.floor() as usize, p.y.floor() as usize);
+            let c = &pixmap.data()[4 * (y * w + x)..4 * (y * w + x) + 3];
+            let red = c[0] > 150 && c[1] < 100;
+            let dark = c.iter().all(|&v| v < 100);
+            if *continuous {
+                assert!(dark, "{continuity:?}: G2 joint at {p:?} drawn {c:?}");
+                seen.0 += 1;
+            } else {
+                assert!(red, "{continuity:?}: jump at {p:?} drawn {c:?}");
+                seen.1 += 1;
+            }
+        }
+    }
+    assert!(seen.0 > 0 && seen.1 > 0, "both kinds drawn: {seen:?}");
+}

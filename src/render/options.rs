@@ -4,8 +4,8 @@
 use super::colour::{BACKGROUND, Rgba};
 use super::error::RenderError;
 
-/// Which overlays are drawn. Default: samples, B-spline, splits, segments, legend and scale bar
-/// on; control polygon and comb off (they clutter a first look).
+/// Which overlays are drawn. Default: samples, B-spline, splits, segments, joints, legend and
+/// scale bar on; control polygon and comb off (they clutter a first look).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct Overlays {
     /// Raw samples, dots sized by pressure where the stroke has it.
@@ -19,6 +19,10 @@ pub struct Overlays {
     pub splits: bool,
     /// LAC segments coloured by α; arcs and lines (α = null) black.
     pub segments: bool,
+    /// LAC joints: a bar across the chain where two segments meet (the split markers sit on the
+    /// B-spline, where the chain started from), ink where the curvature is continuous (G2),
+    /// red where it jumps.
+    pub joints: bool,
     /// Curvature comb of the LAC segments.
     pub comb: bool,
     /// Colour legend of α (top right).
@@ -35,6 +39,7 @@ impl Overlays {
         control_polygon: true,
         splits: true,
         segments: true,
+        joints: true,
         comb: true,
         legend: true,
         scale_bar: true,
@@ -46,6 +51,7 @@ impl Overlays {
         control_polygon: false,
         splits: false,
         segments: false,
+        joints: false,
         comb: false,
         legend: false,
         scale_bar: false,
@@ -60,6 +66,7 @@ impl Default for Overlays {
             control_polygon: false,
             splits: true,
             segments: true,
+            joints: true,
             comb: false,
             legend: true,
             scale_bar: true,

@@ -2,7 +2,7 @@
 //! B-spline, control polygon, LAC segments, highlight, curvature comb and split markers.
 
 use super::colour::{
-    BSPLINE, COMB, CONTROL_POLYGON, CORNER, EXTREMUM, HIGHLIGHT, INFLECTION, MARKER_OUTLINE,
+    BSPLINE, COMB, CONTROL_POLYGON, CORNER, EXTREMUM, HIGHLIGHT, INFLECTION, INK, MARKER_OUTLINE,
     SAMPLE, segment_colour,
 };
 use super::options::RenderOptions;
@@ -305,6 +305,38 @@ pub fn draw_splits(pixmap: &mut Pixmap, scene: &Scene, view: &View, options: &Re
             fill,
             MARKER_OUTLINE,
         );
+    }
+}
+
+/// Relative curvature jump up to which a joint is drawn as curvature-continuous: the G2
+/// statement of the chain itself (its joints share one curvature, to rounding).
+pub const CONTINUOUS_JUMP: f64 = 1e-9;
+
+/// Half-length of a joint's bar, in marker sizes.
+const JOINT_BAR_HALF: f64 = 0.7;
+
+/// Width of a joint's bar, pixels.
+const JOINT_BAR_WIDTH: f64 = 2.5;
+
+/// The LAC joints: where two segments of a chain meet, a bar across the chain (along the
+/// normal), ink where the curvature is continuous ([`CONTINUOUS_JUMP`]) and red where it jumps.
+pub fn draw_joints(pixmap: &mut Pixmap, scene: &Scene, view: &View, options: &RenderOptions) {
+    let half = JOINT_BAR_HALF * options.marker_size;
+    for chain in scene.curves.iter().filter_map(|c| c.chain.as_ref()) {
+        for w in chain.segments.windows(2) {
+            let (a, b) = (&w[0].segment, &w[1].segment);
+            let p = view.to_pixel(b.start());
+            // The bar lies along the normal; in pixels y grows downwards, which only mirrors
+            // it: a normal stays a normal.
+            let (sin, cos) = b.theta0().sin_cos();
+            let n = Vec2::new(-sin, cos) * half;
+            let continuous = crate::export::relative_jump(a.kappa1(), b.kappa0())
+                .is_some_and(|j| j <= CONTINUOUS_JUMP);
+            let colour = if continuous { INK } else { CORNER };
+            if let Some(path) = polyline([p - n, p + n]) {
+                stroke(pixmap, &path, colour, JOINT_BAR_WIDTH);
+            }
+        }
     }
 }
 

@@ -10,12 +10,13 @@ use crate::stroke::StrokeFile;
 pub const QUICK_LOOK_MARGIN_PX: f64 = 48.0;
 
 /// The overlay names [`Overlays::named`] takes, each an [`Overlays`] field.
-pub const OVERLAY_NAMES: [&str; 8] = [
+pub const OVERLAY_NAMES: [&str; 9] = [
     "samples",
     "bspline",
     "control-polygon",
     "splits",
     "segments",
+    "joints",
     "comb",
     "legend",
     "scale-bar",
@@ -32,6 +33,7 @@ impl Overlays {
             control_polygon: on("control-polygon"),
             splits: on("splits"),
             segments: on("segments"),
+            joints: on("joints"),
             comb: on("comb"),
             legend: on("legend"),
             scale_bar: on("scale-bar"),

@@ -5,8 +5,8 @@ use super::error::RenderError;
 use super::legend::{draw_legend, draw_scale_bar};
 use super::options::RenderOptions;
 use super::overlays::{
-    draw_bspline, draw_comb, draw_control_polygon, draw_highlight, draw_samples, draw_segments,
-    draw_splits,
+    draw_bspline, draw_comb, draw_control_polygon, draw_highlight, draw_joints, draw_samples,
+    draw_segments, draw_splits,
 };
 use super::view::View;
 use crate::geom::{Point, Rect};
@@ -108,6 +108,9 @@ pub fn render(scene: &Scene, view: &View, options: &RenderOptions) -> Result<Pix
     }
     if o.segments {
         draw_segments(&mut pixmap, scene, view, options);
+    }
+    if o.joints {
+        draw_joints(&mut pixmap, scene, view, options);
     }
     if o.splits {
         draw_splits(&mut pixmap, scene, view, options);
