@@ -220,7 +220,8 @@ pub struct FitArgs {
     pub png: Option<PathBuf>,
     /// The PNG's overlays, comma-separated, drawn instead of the default set (samples, bspline,
     /// splits, segments, joints, legend, scale-bar): any of samples, bspline, control-polygon,
-    /// splits, segments, joints, comb, legend, scale-bar.
+    /// splits, segments, joints, comb, comb-log (the comb on a logarithmic scale), legend,
+    /// scale-bar.
     #[arg(long, value_delimiter = ',', value_parser = crate::render::OVERLAY_NAMES)]
     pub png_layers: Option<Vec<String>>,
     /// Size of the PNG, WIDTHxHEIGHT pixels.

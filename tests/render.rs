@@ -412,12 +412,13 @@ fn toggling_an_overlay_changes_pixels_only_where_it_draws() {
     let all = RenderOptions::with_overlays(Overlays::ALL);
     let full = draw(&file, &out, size, &all);
     type Toggle = fn(&mut Overlays);
-    let toggles: [(&str, Toggle); 8] = [
+    let toggles: [(&str, Toggle); 9] = [
         ("samples", |o| o.samples = false),
         ("bspline", |o| o.bspline = false),
         ("control_polygon", |o| o.control_polygon = false),
         ("splits", |o| o.splits = false),
         ("segments", |o| o.segments = false),
+        ("joints", |o| o.joints = false),
         ("comb", |o| o.comb = false),
         ("legend", |o| o.legend = false),
         ("scale_bar", |o| o.scale_bar = false),
@@ -433,12 +434,15 @@ fn toggling_an_overlay_changes_pixels_only_where_it_draws() {
             (&mut alone.control_polygon, without.control_polygon, true),
             (&mut alone.splits, without.splits, true),
             (&mut alone.segments, without.segments, true),
+            (&mut alone.joints, without.joints, true),
             (&mut alone.comb, without.comb, true),
             (&mut alone.legend, without.legend, true),
             (&mut alone.scale_bar, without.scale_bar, true),
         ] {
             *a = c && !b;
         }
+        // How the comb is drawn is a mode of the comb, not a layer of its own.
+        alone.comb_log = Overlays::ALL.comb_log;
         let partial = draw(&file, &out, size, &RenderOptions::with_overlays(without));
         // The overlay alone, on black and on white: every pixel it covers shows on one of them,
         // whatever colour it paints there (white, like the legend's panel, or black).
@@ -1139,4 +1143,26 @@ fn lac_joints_are_bars_across_the_chain_ink_where_g2_and_red_where_the_curvature
         }
     }
     assert!(seen.0 > 0 && seen.1 > 0, "both kinds drawn: {seen:?}");
+}
+
+#[test]
+fn the_log_comb_is_the_linear_comb_for_small_curvature_and_keeps_needles_on_the_drawing() {
+    use kansei::render::comb_tooth;
+    let (scale, reference) = (50.0, 0.02);
+    for k in [1e-6, 1e-5, 1e-4] {
+        let (linear, log) = (comb_tooth(k, scale, None), comb_tooth(k, scale, Some(reference)));
+        assert!((log - linear).abs() <= 0.01 * linear, "κ {k}: {log} against {linear}");
+        // Odd in κ: the tooth stands on the convex side either way.
+        assert_eq!(comb_tooth(-k, scale, Some(reference)), -log);
+    }
+    // Monotone, and a needle a hundred times the reference is ln(101) references long, not 100.
+    let teeth: Vec<f64> = (0..50)
+        .map(|i| comb_tooth(reference * 1.2f64.powi(i), scale, Some(reference)))
+        .collect();
+    assert!(teeth.windows(2).all(|w| w[1] > w[0]));
+    let needle = comb_tooth(100.0 * reference, scale, Some(reference));
+    assert!((needle - scale * reference * 101f64.ln()).abs() < 1e-12);
+    // A reference that is no positive number gives the linear tooth.
+    assert_eq!(comb_tooth(0.3, scale, Some(0.0)), 0.3 * scale);
+    assert_eq!(comb_tooth(0.3, scale, Some(f64::NAN)), 0.3 * scale);
 }

@@ -281,6 +281,7 @@ pub fn overlays(ui: &mut Ui, o: &mut Overlays) {
     ui.checkbox(&mut o.segments, "LAC segments");
     ui.checkbox(&mut o.joints, "LAC joints");
     ui.checkbox(&mut o.comb, "curvature comb");
+    ui.checkbox(&mut o.comb_log, "comb on a log scale");
     ui.checkbox(&mut o.legend, "α legend");
     ui.checkbox(&mut o.scale_bar, "scale bar");
 }

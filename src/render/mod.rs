@@ -61,8 +61,8 @@ pub use options::{Overlays, RenderOptions};
 pub use overlays::{
     ARC_TOLERANCE_PX, COMB_HEIGHT_FRACTION, COMB_MAX_TOOTH_FRACTION, COMB_QUANTILE,
     COMB_SCALE_SAMPLES, CULL_PAD_PX, MAX_SEGMENT_POINTS, SEGMENT_CHORD_ERROR_PX,
-    SEGMENT_MAX_TURNING, SEGMENT_MIN_STEP_PX, SEGMENT_STEP_PX, auto_comb_scale, sample_radius,
-    segment_may_show, segment_path, segment_spacing,
+    SEGMENT_MAX_TURNING, SEGMENT_MIN_STEP_PX, SEGMENT_STEP_PX, auto_comb_scale, comb_tooth,
+    sample_radius, segment_may_show, segment_path, segment_spacing,
 };
 pub use primitives::{MarkerShape, PIXEL_COORD_LIMIT};
 pub use quick_look::{OVERLAY_NAMES, QUICK_LOOK_MARGIN_PX, quick_look_png};

@@ -25,6 +25,10 @@ pub struct Overlays {
     pub joints: bool,
     /// Curvature comb of the LAC segments.
     pub comb: bool,
+    /// The comb's teeth on a logarithmic scale (`comb-log`): a tooth of curvature κ is
+    /// `scale·κ_m·ln(1 + |κ|/κ_m)` long (κ_m the scene's median |κ|), as the linear comb for
+    /// small curvature, while a needle a hundred times the rest stays on the drawing.
+    pub comb_log: bool,
     /// Colour legend of α (top right).
     pub legend: bool,
     /// Scale bar (bottom left), labelled in the scene's units.
@@ -41,6 +45,7 @@ impl Overlays {
         segments: true,
         joints: true,
         comb: true,
+        comb_log: true,
         legend: true,
         scale_bar: true,
     };
@@ -53,6 +58,7 @@ impl Overlays {
         segments: false,
         joints: false,
         comb: false,
+        comb_log: false,
         legend: false,
         scale_bar: false,
     };
@@ -68,6 +74,7 @@ impl Default for Overlays {
             segments: true,
             joints: true,
             comb: false,
+            comb_log: false,
             legend: true,
             scale_bar: true,
         }

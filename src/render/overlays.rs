@@ -344,7 +344,7 @@ pub fn draw_joints(pixmap: &mut Pixmap, scene: &Scene, view: &View, options: &Re
 /// segments ([`COMB_SCALE_SAMPLES`] per segment) a tooth of [`COMB_HEIGHT_FRACTION`] of the
 /// diagonal of [`scene_bounds`](super::scene_bounds). `None` without segments or curvature.
 pub fn auto_comb_scale(scene: &Scene) -> Option<f64> {
-    comb_scale_for(scene, scene_diagonal(scene)?)
+    comb_scale_for(scene, scene_diagonal(scene)?, false)
 }
 
 /// The diagonal of [`scene_bounds`](super::scene_bounds).
@@ -352,8 +352,9 @@ fn scene_diagonal(scene: &Scene) -> Option<f64> {
     super::scene_bounds(scene).map(|b| b.width().hypot(b.height()))
 }
 
-/// [`auto_comb_scale`] for a scene of this diagonal.
-fn comb_scale_for(scene: &Scene, diagonal: f64) -> Option<f64> {
+/// The |κ| of the scene's LAC segments ([`COMB_SCALE_SAMPLES`] per segment) at the
+/// [`COMB_QUANTILE`] and at the median (`None` without segments or curvature).
+fn comb_curvatures(scene: &Scene) -> Option<(f64, f64)> {
     let mut kappas: Vec<f64> = segments(scene)
         .flat_map(|(_, _, seg)| {
             (0..COMB_SCALE_SAMPLES).map(move |i| {
@@ -367,11 +368,31 @@ fn comb_scale_for(scene: &Scene, diagonal: f64) -> Option<f64> {
         return None;
     }
     kappas.sort_by(f64::total_cmp);
-    // Nearest-rank quantile.
-    let rank = ((COMB_QUANTILE * kappas.len() as f64).ceil() as usize).clamp(1, kappas.len());
-    let reference = kappas[rank - 1];
-    let scale = COMB_HEIGHT_FRACTION * diagonal / reference;
+    // Nearest-rank quantiles.
+    let at =
+        |q: f64| kappas[((q * kappas.len() as f64).ceil() as usize).clamp(1, kappas.len()) - 1];
+    Some((at(COMB_QUANTILE), at(0.5)))
+}
+
+/// [`auto_comb_scale`] for a scene of this diagonal; with `log`, the scale that gives the
+/// quantile's tooth the same height on the logarithmic comb ([`comb_tooth`]).
+fn comb_scale_for(scene: &Scene, diagonal: f64, log: bool) -> Option<f64> {
+    let (reference, median) = comb_curvatures(scene)?;
+    let height = COMB_HEIGHT_FRACTION * diagonal;
+    let unit_tooth = comb_tooth(reference, 1.0, log.then_some(median)).abs();
+    let scale = height / unit_tooth;
     (scale.is_finite() && scale > 0.0).then_some(scale)
+}
+
+/// The signed length of a comb tooth of curvature `kappa` at `scale` (model units²): `κ·scale`,
+/// or on the logarithmic comb (`log_reference` κ_m) `sign(κ)·scale·κ_m·ln(1 + |κ|/κ_m)`, equal
+/// to the linear tooth to first order for |κ| ≪ κ_m. A reference that is not a positive finite
+/// number gives the linear tooth.
+pub fn comb_tooth(kappa: f64, scale: f64, log_reference: Option<f64>) -> f64 {
+    match log_reference.filter(|r| r.is_finite() && *r > 0.0) {
+        Some(r) => kappa.signum() * scale * r * (kappa.abs() / r).ln_1p(),
+        None => kappa * scale,
+    }
 }
 
 /// The curvature comb of each chain: a tooth every [`RenderOptions::comb_spacing`] pixels,
@@ -383,9 +404,14 @@ pub fn draw_comb(pixmap: &mut Pixmap, scene: &Scene, view: &View, options: &Rend
     let Some(diagonal) = scene_diagonal(scene) else {
         return;
     };
+    let log = options
+        .overlays
+        .comb_log
+        .then(|| comb_curvatures(scene).map(|(_, median)| median))
+        .flatten();
     let Some(scale) = options
         .comb_scale
-        .or_else(|| comb_scale_for(scene, diagonal))
+        .or_else(|| comb_scale_for(scene, diagonal, log.is_some()))
     else {
         return;
     };
@@ -401,7 +427,7 @@ pub fn draw_comb(pixmap: &mut Pixmap, scene: &Scene, view: &View, options: &Rend
             let segment = &seg.segment;
             let tip = |s: crate::lac::LacSample| {
                 let (sin, cos) = s.theta.sin_cos();
-                let tooth = (s.kappa * scale).clamp(-max_tooth, max_tooth);
+                let tooth = comb_tooth(s.kappa, scale, log).clamp(-max_tooth, max_tooth);
                 s.point - Vec2::new(-sin, cos) * tooth
             };
             let pad = max_tooth * view.pixels_per_unit + CULL_PAD_PX;
@@ -425,7 +451,7 @@ pub fn draw_comb(pixmap: &mut Pixmap, scene: &Scene, view: &View, options: &Rend
                 }
                 // A tooth cut to the longest length gets a cross on its tip: the curvature there
                 // is off the comb's scale (a needle), not as drawn.
-                if (s.kappa * scale).abs() > max_tooth {
+                if comb_tooth(s.kappa, scale, log).abs() > max_tooth {
                     let (sin, cos) = s.theta.sin_cos();
                     let reach = 0.5 * COMB_CLIP_MARK_PX / view.pixels_per_unit / 2f64.sqrt();
                     let (t, n) = (Vec2::new(cos, sin), Vec2::new(-sin, cos));

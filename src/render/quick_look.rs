@@ -10,7 +10,7 @@ use crate::stroke::StrokeFile;
 pub const QUICK_LOOK_MARGIN_PX: f64 = 48.0;
 
 /// The overlay names [`Overlays::named`] takes, each an [`Overlays`] field.
-pub const OVERLAY_NAMES: [&str; 9] = [
+pub const OVERLAY_NAMES: [&str; 10] = [
     "samples",
     "bspline",
     "control-polygon",
@@ -18,6 +18,7 @@ pub const OVERLAY_NAMES: [&str; 9] = [
     "segments",
     "joints",
     "comb",
+    "comb-log",
     "legend",
     "scale-bar",
 ];
@@ -35,6 +36,7 @@ impl Overlays {
             segments: on("segments"),
             joints: on("joints"),
             comb: on("comb"),
+            comb_log: on("comb-log"),
             legend: on("legend"),
             scale_bar: on("scale-bar"),
         }

@@ -23,7 +23,7 @@ pub const FIT_PARAMS: [&str; 7] = [
 pub const SVG_LAYERS: [&str; 4] = ["samples", "bspline", "alpha", "splits"];
 
 /// The PNG layers `layers` may name (as `kansei fit --png-layers`).
-pub const PNG_LAYERS: [&str; 9] = crate::render::OVERLAY_NAMES;
+pub const PNG_LAYERS: [&str; 10] = crate::render::OVERLAY_NAMES;
 
 /// The default PNG size, as `kansei fit --size`.
 pub const DEFAULT_PNG_SIZE: (u32, u32) = (1600, 1000);
