@@ -1150,8 +1150,14 @@ fn the_log_comb_is_the_linear_comb_for_small_curvature_and_keeps_needles_on_the_
     use kansei::render::comb_tooth;
     let (scale, reference) = (50.0, 0.02);
     for k in [1e-6, 1e-5, 1e-4] {
-        let (linear, log) = (comb_tooth(k, scale, None), comb_tooth(k, scale, Some(reference)));
-        assert!((log - linear).abs() <= 0.01 * linear, "κ {k}: {log} against {linear}");
+        let (linear, log) = (
+            comb_tooth(k, scale, None),
+            comb_tooth(k, scale, Some(reference)),
+        );
+        assert!(
+            (log - linear).abs() <= 0.01 * linear,
+            "κ {k}: {log} against {linear}"
+        );
         // Odd in κ: the tooth stands on the convex side either way.
         assert_eq!(comb_tooth(-k, scale, Some(reference)), -log);
     }
