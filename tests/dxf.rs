@@ -6,9 +6,11 @@
 mod common;
 
 use common::export::{Piece, two_sided_distance};
-use kansei::export::{DxfOptions, bezier_chain_spline, dxf_drawing, dxf_units};
+use kansei::chain::Continuity;
+use kansei::export::{DxfOptions, SplineForm, bezier_chain_spline, dxf_drawing, dxf_units};
 use kansei::pipeline::{PipelineOptions, fit_file};
 use kansei::stroke::{StrokeFile, Units};
+use kurbo::ParamCurve;
 use kurbo::{CubicBez, ParamCurveArclen, Point};
 
 #[test]
@@ -100,5 +102,94 @@ fn millimetre_strokes_say_millimetres_and_read_back_within_the_accuracy() {
         }
         assert_eq!(at, cubics.len());
         assert!(export.splines[0].error <= expected);
+    }
+}
+
+/// A planted G2 chain in millimetres (a C rising then falling), drawn with a pen's noise.
+fn planted_g2_file() -> (StrokeFile, Vec<kansei::lac::LacSegment>) {
+    let truth =
+        common::planted::planted(0.016, &[(37.5, Some(0.5), 0.08), (30.0, Some(-1.0), 0.024)]);
+    let mut rng = common::Rng::new(3);
+    let stroke = common::planted::samples(&truth, 300, |p| {
+        p + kurbo::Vec2::new(0.01 * rng.normal(), 0.01 * rng.normal())
+    });
+    (StrokeFile::new(Units::Mm, vec![stroke]), truth)
+}
+
+#[test]
+fn a_g2_chain_is_written_as_a_c2_spline_within_the_accuracy_and_a_g1_chain_in_bezier_form() {
+    let (file, _) = planted_g2_file();
+    for continuity in [Continuity::G1, Continuity::G2] {
+        let mut options = PipelineOptions::default();
+        options.chain.continuity = continuity;
+        let out = fit_file(&file, &options).expect("fit");
+        let chain = out.curves[0].chain.as_ref().expect("chain");
+        assert_eq!(chain.continuity, continuity, "the smooth fit held");
+        let export = dxf_drawing(&out, &DxfOptions::default());
+        let accuracy = export.accuracy;
+        let expected = if continuity == Continuity::G1 {
+            SplineForm::Bezier
+        } else {
+            SplineForm::C2
+        };
+        assert_eq!(export.splines[0].form, expected);
+        let bytes = export.to_bytes().expect("writes");
+        let drawing = dxf::Drawing::load(&mut bytes.as_slice()).expect("reads back");
+        let s = common::export::dxf_splines(&drawing)[0];
+        let knots = s.knot_values.clone();
+        let points: Vec<Point> = s
+            .control_points
+            .iter()
+            .map(|p| Point::new(p.x, p.y))
+            .collect();
+        // The interior knots: simple for the C2 spline (each span joins its neighbours with
+        // continuous second derivative), triple for the Bézier form.
+        let interior = &knots[4..knots.len() - 4];
+        let simple = interior.windows(2).all(|w| w[1] > w[0]);
+        assert_eq!(
+            simple,
+            expected == SplineForm::C2,
+            "{continuity:?}: {interior:?}"
+        );
+        if expected != SplineForm::C2 {
+            continue;
+        }
+        // Measured here, independently of the exporter: the spline read back against the exact
+        // chain, both ways.
+        let spline = kansei::bspline::BSpline::new(knots, points).expect("a valid spline");
+        let on_spline: Vec<Point> = spline
+            .to_beziers()
+            .iter()
+            .flat_map(|p| (0..=40).map(move |i| p.bez.eval(i as f64 / 40.0)))
+            .collect();
+        let on_chain: Vec<Point> = chain
+            .segments
+            .iter()
+            .flat_map(|c| c.segment.samples(0.01).map(|p| p.point).collect::<Vec<_>>())
+            .collect();
+        let nearest = |q: Point, set: &[Point]| {
+            set.windows(2)
+                .map(|w| {
+                    let ab = w[1] - w[0];
+                    let t =
+                        ((q - w[0]).dot(ab) / ab.hypot2().max(f64::MIN_POSITIVE)).clamp(0.0, 1.0);
+                    q.distance(w[0] + ab * t)
+                })
+                .fold(f64::INFINITY, f64::min)
+        };
+        let there = on_chain
+            .iter()
+            .map(|q| nearest(*q, &on_spline))
+            .fold(0.0, f64::max);
+        let back = on_spline
+            .iter()
+            .map(|q| nearest(*q, &on_chain))
+            .fold(0.0, f64::max);
+        // The polylines' own chord errors (κ ≤ 0.08, steps ≤ 0.01 mm on the chain) are far below.
+        assert!(
+            there <= accuracy && back <= accuracy,
+            "{there} / {back} > {accuracy}"
+        );
+        assert!(export.splines[0].error <= accuracy);
     }
 }

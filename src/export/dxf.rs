@@ -1,5 +1,7 @@
 //! The DXF export: one cubic `SPLINE` entity per fitted piece, written with the `dxf` crate.
 //!
+//! ## The Bézier form
+//!
 //! Each piece's LAC chain becomes the Bézier chain of [`segment_beziers`] (lines exact, arcs and
 //! spirals within the export accuracy), and that chain is written as one degree-3 B-spline in
 //! Bézier form: control points P0 P1 P2 P3 P4 … (consecutive cubics share their end control
@@ -16,6 +18,16 @@
 //! depending on a tool's join tolerance. The knots are arc lengths, so the spline's parameter
 //! runs at nearly unit speed (tools that place points by parameter spread them evenly).
 //!
+//! ## The C2 form
+//!
+//! A curvature-continuous chain (`g2`, `c3`) is written instead, where it holds the accuracy,
+//! as a cubic B-spline with simple knots fitted to the chain ([`c2_spline`], [`SplineForm::C2`]):
+//! the Bézier form is only C0 in its parameter at the triple knots, and a CAD tool that reads
+//! continuity off the knots would see breaks the chain does not have. The C2 spline's curvature
+//! follows the chain's within what the accuracy allows, not exactly; a G1 chain keeps the Bézier
+//! form, whose joints are the chain's own (its curvature jumps are real). The report says which
+//! form each piece got.
+//!
 //! Numbers are written by the `dxf` crate with 12 decimals (an absolute rounding of at most
 //! 5·10⁻¹³ in the data's units, negligible beside any accuracy).
 //!
@@ -27,6 +39,9 @@ use dxf::enums::{AcadVersion, Units as DxfUnits};
 use dxf::{Drawing, Point as DxfPoint};
 use kurbo::{CubicBez, ParamCurveArclen};
 
+use crate::bspline::{FitOptions, fit_bspline};
+use crate::chain::{Chain, Continuity};
+use crate::geom::Point;
 use crate::pipeline::FitOutput;
 use crate::stroke::Units;
 
@@ -36,6 +51,33 @@ use super::svg::export_accuracy;
 /// Relative accuracy of the cubics' arc lengths used as knots (they only set the parameter
 /// speed, never the shape).
 const KNOT_ARCLEN_ACCURACY: f64 = 1e-9;
+
+/// Share of the accuracy the C2 spline's least-squares fit may use at the chain's points; the
+/// rest covers the spline between them and the polyline standing in for the chain.
+pub const C2_FIT_FRACTION: f64 = 0.5;
+
+/// The chain is sampled for the C2 fit so densely that its polyline is within this share of the
+/// accuracy of the chain (spacing `√(8·share·accuracy/κ_max)`).
+pub const C2_CHORD_FRACTION: f64 = 0.05;
+
+/// Most chain points the C2 fit takes: beyond, the piece is written in Bézier form.
+pub const C2_MAX_POINTS: usize = 20_000;
+
+/// Points per knot span at which the C2 spline is measured against the chain.
+pub const C2_CHECKS_PER_SPAN: usize = 16;
+
+/// How a piece's spline is written.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum SplineForm {
+    /// The chain's Bézier cubics as one B-spline with triple interior knots: the LAC chain
+    /// itself within the accuracy, joints included, but only C0 in its parameter (G1 as drawn).
+    Bezier,
+    /// A cubic B-spline with simple knots (C2) fitted to the chain within the accuracy: what a
+    /// CAD tool expects of a curvature-continuous curve. Written for G2 and C3 chains when it
+    /// holds the accuracy; its curvature follows the chain's to within what the accuracy allows,
+    /// not exactly.
+    C2,
+}
 
 /// Options of [`dxf_drawing`].
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
@@ -54,6 +96,8 @@ pub struct DxfSplineReport {
     pub cubics: Vec<usize>,
     /// Largest measured distance between the spline and the chain.
     pub error: f64,
+    /// How it was written.
+    pub form: SplineForm,
 }
 
 /// A DXF drawing and what it holds.
@@ -147,8 +191,21 @@ pub fn dxf_drawing(output: &FitOutput, options: &DxfOptions) -> DxfExport {
             }
             cubics.extend(seg_cubics);
         }
-        let Some((knots, points)) = bezier_chain_spline(&cubics) else {
-            continue;
+        // A curvature-continuous chain as a C2 spline where one holds the accuracy.
+        let c2 = (chain.continuity != Continuity::G1)
+            .then(|| c2_spline(chain, accuracy))
+            .flatten();
+        let (form, knots, points) = match c2 {
+            Some((knots, points, c2_error)) => {
+                error = c2_error;
+                (SplineForm::C2, knots, points)
+            }
+            None => {
+                let Some((knots, points)) = bezier_chain_spline(&cubics) else {
+                    continue;
+                };
+                (SplineForm::Bezier, knots, points)
+            }
         };
         if points.iter().any(|p| !(p.x.is_finite() && p.y.is_finite())) {
             continue;
@@ -168,6 +225,7 @@ pub fn dxf_drawing(output: &FitOutput, options: &DxfOptions) -> DxfExport {
             stroke: fit.stroke,
             cubics: counts,
             error,
+            form,
         });
     }
     // Dots (taps) are POINT entities: exact, as a CAD user expects of a single position.
@@ -183,4 +241,85 @@ pub fn dxf_drawing(output: &FitOutput, options: &DxfOptions) -> DxfExport {
         accuracy,
         splines,
     }
+}
+
+/// A C2 cubic B-spline within `accuracy` of the chain, with its knots (scaled to the chain's
+/// length, so the parameter runs at about unit speed), control points and measured error:
+/// the chain sampled densely ([`C2_CHORD_FRACTION`]), a plain least-squares B-spline fitted to
+/// those points within [`C2_FIT_FRACTION`] of the accuracy with its ends on the chain's, then
+/// measured both ways (the chain's points to the spline, and the spline at
+/// [`C2_CHECKS_PER_SPAN`] points per span to the chain's polyline, plus that polyline's own
+/// chord error). `None` where that misses the accuracy or cannot be built.
+pub fn c2_spline(chain: &Chain, accuracy: f64) -> Option<(Vec<f64>, Vec<kurbo::Point>, f64)> {
+    if !(accuracy.is_finite() && accuracy > 0.0) {
+        return None;
+    }
+    let kappa_max = chain
+        .segments
+        .iter()
+        .map(|s| s.segment.kappa0().abs().max(s.segment.kappa1().abs()))
+        .fold(0.0, f64::max);
+    let total: f64 = chain.segments.iter().map(|s| s.segment.length()).sum();
+    let chord = C2_CHORD_FRACTION * accuracy;
+    let spacing = if kappa_max > 0.0 {
+        (8.0 * chord / kappa_max).sqrt()
+    } else {
+        total
+    }
+    .min(total / 8.0);
+    if !(spacing > 0.0 && (total / spacing) < C2_MAX_POINTS as f64) {
+        return None;
+    }
+    let mut points: Vec<Point> = Vec::new();
+    for s in &chain.segments {
+        for p in s.segment.samples(spacing) {
+            if points.last() != Some(&p.point) {
+                points.push(p.point);
+            }
+        }
+    }
+    let (first, last) = (*points.first()?, *points.last()?);
+    let options = FitOptions::new(C2_FIT_FRACTION * accuracy)
+        .with_fairing(false)
+        .with_ends(Some(first), Some(last));
+    let fit = fit_bspline(&points, &options).ok()?;
+    if !fit.within_tolerance {
+        return None;
+    }
+    // The spline between the chain's points, against the chain's polyline (near each check's
+    // foot: the points' parameters on the spline are in order).
+    let curve = &fit.curve;
+    let knots = curve.knots();
+    let mut back: f64 = 0.0;
+    for w in knots.windows(2).filter(|w| w[1] > w[0]) {
+        for k in 0..=C2_CHECKS_PER_SPAN {
+            let u = w[0] + (w[1] - w[0]) * k as f64 / C2_CHECKS_PER_SPAN as f64;
+            let q = curve.eval(u);
+            let i = fit.params.partition_point(|&v| v < u).min(points.len() - 1);
+            let lo = i.saturating_sub(3);
+            let hi = (i + 3).min(points.len() - 1);
+            let d = (lo..hi)
+                .map(|j| segment_distance(points[j], points[j + 1], q))
+                .fold(f64::INFINITY, f64::min);
+            back = back.max(d);
+        }
+    }
+    let error = fit.max_deviation.max(back) + chord;
+    if !(error <= accuracy) {
+        return None;
+    }
+    let scaled: Vec<f64> = knots.iter().map(|k| k * total).collect();
+    Some((scaled, curve.control_points().to_vec(), error))
+}
+
+/// Distance from `q` to the segment `a`–`b`.
+fn segment_distance(a: Point, b: Point, q: Point) -> f64 {
+    let ab = b - a;
+    let length2 = ab.hypot2();
+    let t = if length2 > 0.0 {
+        ((q - a).dot(ab) / length2).clamp(0.0, 1.0)
+    } else {
+        0.0
+    };
+    q.distance(a + ab * t)
 }

@@ -21,7 +21,8 @@ pub use curve_json::{
     relative_jump,
 };
 pub use dxf::{
-    DxfExport, DxfOptions, DxfSplineReport, DxfWriteError, bezier_chain_spline, dxf_drawing,
+    C2_CHECKS_PER_SPAN, C2_CHORD_FRACTION, C2_FIT_FRACTION, C2_MAX_POINTS, DxfExport, DxfOptions,
+    DxfSplineReport, DxfWriteError, SplineForm, bezier_chain_spline, c2_spline, dxf_drawing,
     dxf_units,
 };
 pub use schema::{CURVE_SCHEMA_V1, STROKE_SCHEMA_V1};
