@@ -1277,7 +1277,13 @@ fn shooting_jacobian(
         let mut xp = x.clone();
         set(&mut xp, var, get(x, var) + DIFFERENCE_STEP);
         for k in k0..=k1 {
-            let seg = layout.segment(&xp, k, xp.pose[k].0, xp.pose[k].1).ok()?;
+            // A pose moves its segment rigidly: no new construction.
+            let seg = match var {
+                Var::X(j) | Var::Y(j) | Var::Angle(j) if j == k => {
+                    e.segments[k].placed(xp.pose[k].0, xp.pose[k].1)
+                }
+                _ => layout.segment(&xp, k, xp.pose[k].0, xp.pose[k].1).ok()?,
+            };
             let ratio = seg.length() / e.segments[k].length();
             let feet: Vec<f64> = e.feet[k].iter().map(|s| s * ratio).collect();
             let moved = crate::lac::deviation::points_at(&seg, &feet);

@@ -395,6 +395,32 @@ impl LacSegment {
         self.theta1
     }
 
+    /// The same segment (length, α, end curvatures) placed at `start` with start tangent
+    /// `theta0`: a rigid motion of this one, without a new construction (the end point is the
+    /// old chord turned by the change of angle). Equal to [`LacSegment::new`] at that pose to
+    /// rounding.
+    pub fn placed(&self, start: Point, theta0: f64) -> LacSegment {
+        let turn = theta0 - self.theta0;
+        let (sin, cos) = turn.sin_cos();
+        let chord = self.end - self.start;
+        let end = start + Vec2::new(cos * chord.x - sin * chord.y, sin * chord.x + cos * chord.y);
+        let shape = match self.shape {
+            Shape::Spiral(mut sp) => {
+                sp.frame_angle += turn;
+                Shape::Spiral(sp)
+            }
+            other => other,
+        };
+        LacSegment {
+            start,
+            theta0,
+            end,
+            theta1: self.theta1 + turn,
+            shape,
+            ..*self
+        }
+    }
+
     /// The standard form this segment is a piece of, with the scale c = ρ at the high-curvature
     /// end and the standard arc-length interval [0, U]; `None` for arcs and lines.
     pub fn standard_form(&self) -> Option<(StandardLac, f64, f64)> {
@@ -623,6 +649,33 @@ impl ExactSizeIterator for LacSamples<'_> {}
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn a_placed_segment_is_the_one_built_at_that_pose() {
+        let pose = (Point::new(-12.5, 40.25), 2.1);
+        for (alpha, k0, k1) in [
+            (Some(-1.0), 0.0, 0.05),
+            (Some(0.5), -0.02, -0.09),
+            (Some(2.0), 0.08, 0.01),
+            (None, 0.03, 0.03),
+            (None, 0.0, 0.0),
+        ] {
+            let seg =
+                LacSegment::new(Point::new(3.0, -1.0), -0.4, 30.0, alpha, k0, k1).expect("segment");
+            let placed = seg.placed(pose.0, pose.1);
+            let built = LacSegment::new(pose.0, pose.1, 30.0, alpha, k0, k1).expect("segment");
+            assert!(placed.end().distance(built.end()) < 1e-12, "{alpha:?}");
+            assert!((placed.theta1() - built.theta1()).abs() < 1e-12);
+            for i in 0..=10 {
+                let s = 3.0 * i as f64;
+                assert!(
+                    placed.point(s).distance(built.point(s)) < 1e-12,
+                    "{alpha:?} at {s}"
+                );
+                assert!((placed.kappa(s) - built.kappa(s)).abs() < 1e-15);
+            }
+        }
+    }
 
     #[test]
     fn theta_kappa_is_theta_and_kappa() {
