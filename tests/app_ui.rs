@@ -823,3 +823,53 @@ fn a_drawn_stroke_gets_its_tolerance_from_the_screen_and_the_presets_refit_it() 
     assert_eq!(tight, (0.5 / k).max(floor));
     assert!(tight_count >= loose_count, "{tight_count} < {loose_count}");
 }
+
+#[test]
+fn a_mouse_s_in_a_fresh_app_comes_back_as_a_handful_of_segments() {
+    // The first stroke of a new user: an S drawn with the mouse (whole pixels, one sample per
+    // frame) in a fresh app. At 0.1 mm regardless of zoom this one came back as 44 segments;
+    // drawn at the normal screen tolerance (1.5 px where drawn, raised to the noise floor) it is
+    // 3.
+    let mut harness = harness(AppOptions::default());
+    harness.step();
+    let rect = harness.state().canvas().screen_rect().expect("the canvas");
+    let centre = rect.center();
+    // Two arcs of radius 90 points turning opposite ways, 240 points tall in all.
+    let point = |t: f32| {
+        let (r, a) = (90.0f32, std::f32::consts::PI * t);
+        let p = if t <= 1.0 {
+            Vec2::new(r * a.cos(), -r - r * a.sin())
+        } else {
+            Vec2::new(r * (2.0 * std::f32::consts::PI - a).cos(), r + r * a.sin())
+        };
+        let q = centre + p * 0.7;
+        egui::pos2(q.x.round(), q.y.round())
+    };
+    let start = point(0.0);
+    harness.event(Event::PointerMoved(start));
+    harness.step();
+    harness.event(Event::PointerButton {
+        pos: start,
+        button: PointerButton::Primary,
+        pressed: true,
+        modifiers: Modifiers::NONE,
+    });
+    harness.step();
+    let steps = 160;
+    let mut last = start;
+    for i in 1..=steps {
+        last = point(2.0 * i as f32 / steps as f32);
+        harness.event(Event::PointerMoved(last));
+        harness.step();
+    }
+    harness.event(Event::PointerButton {
+        pos: last,
+        button: PointerButton::Primary,
+        pressed: false,
+        modifiers: Modifiers::NONE,
+    });
+    harness.step();
+    wait_for_fits(&mut harness);
+    let n = segment_count(&harness);
+    assert!((1..=6).contains(&n), "{n} segments for a mouse S");
+}
