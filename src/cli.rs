@@ -988,21 +988,10 @@ fn bench(args: &BenchArgs, out: &mut dyn std::io::Write) -> Result<(), CliError>
 /// Warns once per file when a given tolerance lies below some strokes' noise floor: the fit
 /// then follows the samples' noise (more segments, curvature that is the noise's).
 fn warn_below_noise_floor(input: &std::path::Path, output: &crate::pipeline::FitOutput) {
-    let mut below: Vec<(usize, f64, f64)> = output
-        .curves
-        .iter()
-        .filter_map(|c| c.noise.map(|n| (c.stroke, c.tolerance, n.floor)))
-        .filter(|(_, tolerance, floor)| tolerance < floor)
-        .collect();
-    below.dedup_by_key(|b| b.0);
-    let Some(worst) = below.iter().map(|b| b.2).reduce(f64::max) else {
-        return;
-    };
-    eprintln!(
-        "warning: {}: the tolerance {} is below the noise floor of {} stroke(s) (up to {worst:.3e}): \
-         the fit will follow the noise; without --tolerance each stroke is fitted to its floor",
-        input.display(),
-        output.tolerance,
-        below.len()
-    );
+    if let Some(below) = output.below_floor() {
+        eprintln!(
+            "warning: {}: {below}; without --tolerance each stroke is fitted to its floor",
+            input.display()
+        );
+    }
 }

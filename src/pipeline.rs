@@ -248,6 +248,52 @@ impl FitOutput {
     }
 }
 
+/// Strokes fitted to a tolerance below their noise floor (a given tolerance; the default is never
+/// below it): the fit then follows the samples' noise.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct BelowFloor {
+    /// The file's tolerance.
+    pub tolerance: f64,
+    /// How many strokes.
+    pub strokes: usize,
+    /// The largest of their floors.
+    pub floor: f64,
+}
+
+impl std::fmt::Display for BelowFloor {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(
+            f,
+            "the tolerance {} is below the noise floor of {} stroke(s) (up to {:.3e}): the fit \
+             will follow the noise",
+            self.tolerance, self.strokes, self.floor
+        )
+    }
+}
+
+impl FitOutput {
+    /// The strokes fitted below their noise floor, if any.
+    pub fn below_floor(&self) -> Option<BelowFloor> {
+        let mut strokes: Vec<usize> = Vec::new();
+        let mut floor: f64 = 0.0;
+        for c in &self.curves {
+            if let Some(n) = c.noise
+                && c.tolerance < n.floor
+            {
+                if strokes.last() != Some(&c.stroke) {
+                    strokes.push(c.stroke);
+                }
+                floor = floor.max(n.floor);
+            }
+        }
+        (!strokes.is_empty()).then_some(BelowFloor {
+            tolerance: self.tolerance,
+            strokes: strokes.len(),
+            floor,
+        })
+    }
+}
+
 /// Why the pipeline failed on a stroke.
 #[derive(Debug, thiserror::Error)]
 pub enum PipelineError {

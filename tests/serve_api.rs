@@ -467,3 +467,28 @@ fn binding_beyond_loopback_is_warned_about() {
         kansei::serve::exposure_warning("0.0.0.0:7878".parse().expect("addr")).expect("a warning");
     assert!(w.contains("no authentication"), "{w}");
 }
+
+#[test]
+fn a_tolerance_below_the_noise_floor_is_honoured_with_a_warning_header() {
+    let s = default_server();
+    let body = fixture_text("perfect-freehand-waves");
+    let below = ok(http::post(
+        s.addr(),
+        "/v1/fit?tolerance=0.5",
+        body.as_bytes(),
+    ));
+    let warning = below.header("warning").expect("a Warning header");
+    assert!(
+        warning.starts_with("299 kansei") && warning.contains("below the noise floor"),
+        "{warning}"
+    );
+    // Honoured: the curves are held to 0.5.
+    let doc = CurveFile::from_json(&below.text()).expect("a document");
+    assert_eq!(doc.tolerance, 0.5);
+    for c in &doc.curves {
+        assert!(c.lac.as_ref().expect("chain").max_deviation <= 0.5);
+    }
+    // Without a tolerance, each stroke gets its floor and no warning.
+    let default = ok(http::post(s.addr(), "/v1/fit", body.as_bytes()));
+    assert_eq!(default.header("warning"), None);
+}

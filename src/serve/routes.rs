@@ -159,14 +159,23 @@ async fn fit_endpoint(
     let lcg = params.lcg()?;
     let bytes = body(bytes, state.max_body_bytes)?;
     let limits = state.limits;
-    let json = state
+    let (json, below) = state
         .pool
         .run("fitting", move || {
             let file = read_request(&bytes, &limits)?;
-            Ok(curve_json(&fit(&file, &options)?, lcg))
+            let output = fit(&file, &options)?;
+            Ok((curve_json(&output, lcg), output.below_floor()))
         })
         .await?;
-    Ok(json_response(json))
+    let mut response = json_response(json);
+    // A tolerance below some strokes' noise floor is honoured, with a warning (RFC 9111's
+    // Warning header is obsolete for caches, but code 299 still says "persistent warning").
+    if let Some(below) = below
+        && let Ok(v) = HeaderValue::from_str(&format!("299 kansei \"{below}\""))
+    {
+        response.headers_mut().insert(header::WARNING, v);
+    }
+    Ok(response)
 }
 
 /// `POST /v1/export/svg`.
