@@ -228,6 +228,19 @@ fn a_clear_spiral_has_a_determined_alpha_near_the_planted_one() {
     assert!(s.alpha_determined(), "α {alpha} ± {u}");
     assert_eq!(s.alpha_bound, None);
     assert!((alpha - 1.0).abs() <= (3.0 * u).max(0.1), "α {alpha} ± {u}");
+    // The curvature-continuous fit states its α's uncertainty too.
+    let mut g2 = PipelineOptions::default();
+    g2.chain.continuity = Continuity::G2;
+    let smooth = chain_with(&stroke, &g2);
+    for s in &smooth.segments {
+        let a = s.segment.alpha().expect("a spiral");
+        assert!(
+            s.alpha_determined(),
+            "g2: α {a} ± {:?}",
+            s.alpha_uncertainty
+        );
+        assert!((a - 1.0).abs() <= 0.1, "g2: α {a}");
+    }
     // The search reaches the minimum it claims: α fixed away from its answer fits no better.
     let free = rms(&chain);
     for delta in [-0.3, -0.1, 0.1, 0.3] {

@@ -171,9 +171,9 @@ pub struct ChainSegment {
     /// The end of the allowed α range its α sits on (`None`: an interior α, no α, or a fixed
     /// one): a search stopped there found a wall, not a minimum.
     pub alpha_bound: Option<AlphaBound>,
-    /// The standard error of its α given its joints ([`super::alpha_evidence`]); `None` where
-    /// α is absent or fixed, or was not estimated (the smooth fit's segments); +∞ where the
-    /// samples do not move with α at all.
+    /// The standard error of its α given its joints' positions and tangents
+    /// ([`super::alpha_evidence`]); `None` where α is absent or fixed, or the probes could not
+    /// be built; +∞ where the samples do not move with α at all.
     pub alpha_uncertainty: Option<f64>,
 }
 

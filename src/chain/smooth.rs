@@ -1559,9 +1559,7 @@ fn finish(
                 rms_deviation: rms,
                 search: smooth.chain.segments[layout.origin[k]].search.clone(),
                 alpha_bound: super::AlphaBound::of(e.segments[k].alpha(), smooth.alpha),
-                // Not estimated for the smooth fit's segments: α there shares the joints'
-                // curvature with the neighbours, and a one-segment difference would misstate it.
-                alpha_uncertainty: None,
+                alpha_uncertainty: smooth_alpha_uncertainty(smooth, &e.segments[k], &assign[k], r),
                 start: layout.kinds[k],
                 end: if k + 1 < n {
                     layout.kinds[k + 1]
@@ -1579,4 +1577,46 @@ fn finish(
         refined: smooth.chain.refined,
         continuity: smooth.continuity,
     }
+}
+
+/// The standard error of a smooth segment's α given its end points and tangents (as for the G1
+/// chain's segments, [`super::alpha_evidence`]): the segment rebuilt through them at α ± h by
+/// the Yoshida–Saito construction, its samples' signed distances differenced. Its end
+/// curvatures then move with α, which the G2 chain does not allow: the figure says how well the
+/// samples tell α with the joints' positions and tangents held, not the chain's own conditional.
+/// `None` for no α or a fixed one, or where the constructions fail.
+fn smooth_alpha_uncertainty(
+    smooth: &SmoothInput,
+    segment: &LacSegment,
+    samples: &[usize],
+    residuals: &[f64],
+) -> Option<f64> {
+    let alpha = segment.alpha()?;
+    if matches!(smooth.alpha, AlphaChoice::Fixed(_)) {
+        return None;
+    }
+    let points: Vec<Point> = samples.iter().map(|&i| smooth.input.points[i]).collect();
+    let tangent = |theta: f64| Vec2::new(theta.cos(), theta.sin());
+    let signed = |x: f64| -> Option<Vec<f64>> {
+        let probe = crate::lac::yoshida_saito::fit_g1_near(
+            segment.start(),
+            tangent(segment.theta0()),
+            segment.end(),
+            tangent(segment.theta1()),
+            x,
+            Some(segment),
+        )
+        .ok()?;
+        let d = crate::lac::deviation(&probe, &points, smooth.chord_error);
+        Some(
+            d.distances
+                .iter()
+                .zip(&d.sides)
+                .map(|(r, s)| r * s)
+                .collect(),
+        )
+    };
+    let step = super::ALPHA_DIFFERENCE_STEP;
+    let (minus, plus) = (signed(alpha - step), signed(alpha + step));
+    super::alpha_uncertainty(residuals, minus.as_deref(), plus.as_deref())
 }

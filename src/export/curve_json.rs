@@ -304,8 +304,9 @@ pub struct SegmentRecord {
     /// the search met the range's wall there, not a minimum.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub alpha_bound: Option<crate::chain::AlphaBound>,
-    /// The standard error of α given the segment's joints (absent where α is null or fixed, where
-    /// it was not estimated, and where the samples do not move with α at all).
+    /// The standard error of α given the segment's joints' positions and tangents (absent where
+    /// α is null or fixed, where it could not be estimated, and where the samples do not move
+    /// with α at all).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub alpha_uncertainty: Option<f64>,
     /// Whether the samples determine α (an uncertainty of at most 0.5, the distance between
