@@ -56,6 +56,18 @@ pub fn bounding_box(points: impl IntoIterator<Item = Point>) -> Option<Rect> {
     Some(points.fold(Rect::from_points(first, first), |r, p| r.union_pt(p)))
 }
 
+/// Distance from `p` to the segment `a`–`b` (to `a` when the segment has no length).
+pub fn distance_to_segment(p: Point, a: Point, b: Point) -> f64 {
+    let ab = b - a;
+    let len2 = ab.hypot2();
+    let t = if len2 > 0.0 {
+        ((p - a).dot(ab) / len2).clamp(0.0, 1.0)
+    } else {
+        0.0
+    };
+    (p - (a + ab * t)).hypot()
+}
+
 /// Arc length along the polyline at each of its points (0 at the first).
 pub fn cumulative_lengths(points: &[Point]) -> Vec<f64> {
     let mut acc = 0.0;

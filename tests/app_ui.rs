@@ -52,6 +52,34 @@ fn wait_for_fits(harness: &mut Harness<'static, KanseiApp>) {
     }
 }
 
+/// Draws through `points` with the primary button: pressed at the first, one frame per move,
+/// released at the last.
+fn pointer_stroke(harness: &mut Harness<'static, KanseiApp>, points: &[egui::Pos2]) {
+    let (Some(&start), Some(&last)) = (points.first(), points.last()) else {
+        return;
+    };
+    harness.event(Event::PointerMoved(start));
+    harness.step();
+    harness.event(Event::PointerButton {
+        pos: start,
+        button: PointerButton::Primary,
+        pressed: true,
+        modifiers: Modifiers::NONE,
+    });
+    harness.step();
+    for &p in &points[1..] {
+        harness.event(Event::PointerMoved(p));
+        harness.step();
+    }
+    harness.event(Event::PointerButton {
+        pos: last,
+        button: PointerButton::Primary,
+        pressed: false,
+        modifiers: Modifiers::NONE,
+    });
+    harness.step();
+}
+
 /// Draws a 100° arc of radius 80 points with the primary button, one frame per move.
 fn draw_arc(harness: &mut Harness<'static, KanseiApp>) {
     harness.step();
@@ -64,29 +92,10 @@ fn draw_arc(harness: &mut Harness<'static, KanseiApp>) {
         let a = deg.to_radians();
         centre + 80.0 * Vec2::new(a.cos(), -a.sin())
     };
-    let start = point(0.0);
-    harness.event(Event::PointerMoved(start));
-    harness.step();
-    harness.event(Event::PointerButton {
-        pos: start,
-        button: PointerButton::Primary,
-        pressed: true,
-        modifiers: Modifiers::NONE,
-    });
-    harness.step();
-    let mut last = start;
-    for deg in (2..=100).step_by(2) {
-        last = point(deg as f32);
-        harness.event(Event::PointerMoved(last));
-        harness.step();
-    }
-    harness.event(Event::PointerButton {
-        pos: last,
-        button: PointerButton::Primary,
-        pressed: false,
-        modifiers: Modifiers::NONE,
-    });
-    harness.step();
+    let points: Vec<egui::Pos2> = std::iter::once(point(0.0))
+        .chain((2..=100).step_by(2).map(|deg| point(deg as f32)))
+        .collect();
+    pointer_stroke(harness, &points);
 }
 
 /// Samples the canvas shows (a replay shows them as their time comes).
@@ -845,30 +854,11 @@ fn a_mouse_s_in_a_fresh_app_comes_back_as_a_handful_of_segments() {
         let q = centre + p * 0.7;
         egui::pos2(q.x.round(), q.y.round())
     };
-    let start = point(0.0);
-    harness.event(Event::PointerMoved(start));
-    harness.step();
-    harness.event(Event::PointerButton {
-        pos: start,
-        button: PointerButton::Primary,
-        pressed: true,
-        modifiers: Modifiers::NONE,
-    });
-    harness.step();
     let steps = 160;
-    let mut last = start;
-    for i in 1..=steps {
-        last = point(2.0 * i as f32 / steps as f32);
-        harness.event(Event::PointerMoved(last));
-        harness.step();
-    }
-    harness.event(Event::PointerButton {
-        pos: last,
-        button: PointerButton::Primary,
-        pressed: false,
-        modifiers: Modifiers::NONE,
-    });
-    harness.step();
+    let points: Vec<egui::Pos2> = (0..=steps)
+        .map(|i| point(2.0 * i as f32 / steps as f32))
+        .collect();
+    pointer_stroke(&mut harness, &points);
     wait_for_fits(&mut harness);
     let n = segment_count(&harness);
     assert!((1..=6).contains(&n), "{n} segments for a mouse S");

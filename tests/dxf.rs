@@ -109,10 +109,7 @@ fn millimetre_strokes_say_millimetres_and_read_back_within_the_accuracy() {
 fn planted_g2_file() -> (StrokeFile, Vec<kansei::lac::LacSegment>) {
     let truth =
         common::planted::planted(0.016, &[(37.5, Some(0.5), 0.08), (30.0, Some(-1.0), 0.024)]);
-    let mut rng = common::Rng::new(3);
-    let stroke = common::planted::samples(&truth, 300, |p| {
-        p + kurbo::Vec2::new(0.01 * rng.normal(), 0.01 * rng.normal())
-    });
+    let stroke = common::planted::jittered(&truth, 300, 0.01, 3);
     (StrokeFile::new(Units::Mm, vec![stroke]), truth)
 }
 

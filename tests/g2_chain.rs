@@ -7,8 +7,7 @@
 
 mod common;
 
-use common::Rng;
-use common::planted::{distance_to, planted, samples};
+use common::planted::{distance_to, jittered, planted, samples};
 use kansei::chain::{Chain, Continuity};
 use kansei::geom::{Point, Vec2};
 use kansei::lac::LacSegment;
@@ -96,10 +95,7 @@ fn a_planted_c_with_light_noise_comes_back_curvature_continuous() {
         0.004,
         &[(150.0, Some(0.5), 0.02), (120.0, Some(-1.0), 0.006)],
     );
-    let mut rng = Rng::new(3);
-    let stroke = samples(&truth, 300, |p| {
-        p + Vec2::new(0.05 * rng.normal(), 0.05 * rng.normal())
-    });
+    let stroke = jittered(&truth, 300, 0.05, 3);
     check("C, noise 0.05", &truth, &stroke, 0.5, 0.5);
 }
 
@@ -109,10 +105,7 @@ fn a_planted_s_through_an_inflection_comes_back_curvature_continuous() {
         0.015,
         &[(120.0, Some(-1.0), 0.0), (120.0, Some(-1.0), -0.015)],
     );
-    let mut rng = Rng::new(7);
-    let stroke = samples(&truth, 300, |p| {
-        p + Vec2::new(0.05 * rng.normal(), 0.05 * rng.normal())
-    });
+    let stroke = jittered(&truth, 300, 0.05, 7);
     check("S, noise 0.05", &truth, &stroke, 0.5, 0.5);
 }
 
@@ -151,10 +144,7 @@ fn g1_is_the_seed_papers_chain_and_g2_never_loses_the_tolerance() {
         0.004,
         &[(150.0, Some(0.5), 0.02), (120.0, Some(-1.0), 0.006)],
     );
-    let mut rng = Rng::new(9);
-    let stroke = samples(&truth, 300, |p| {
-        p + Vec2::new(0.2 * rng.normal(), 0.2 * rng.normal())
-    });
+    let stroke = jittered(&truth, 300, 0.2, 9);
     for continuity in [Continuity::G1, Continuity::G2, Continuity::C3] {
         for chain in fit(&stroke, 0.5, continuity) {
             if continuity == Continuity::G1 {
@@ -200,10 +190,7 @@ fn a_planted_compound_rhythm_comes_back_with_continuous_dkappa_ds() {
     let planted_gap = (second.dkappa_ds(0.0) - slope).abs() / slope.abs();
     assert!(planted_gap < 1e-12, "planted C3: {planted_gap}");
     let truth = [first, second];
-    let mut rng = Rng::new(13);
-    let stroke = samples(&truth, 300, |p| {
-        p + Vec2::new(0.05 * rng.normal(), 0.05 * rng.normal())
-    });
+    let stroke = jittered(&truth, 300, 0.05, 13);
     let chains = fit(&stroke, 0.5, Continuity::C3);
     assert_eq!(chains.len(), 1);
     let chain = &chains[0];

@@ -7,7 +7,7 @@
 mod common;
 
 use common::Rng;
-use common::planted::{distance_between, planted_at, profile_error, samples};
+use common::planted::{distance_between, jittered, planted_at, profile_error, samples};
 use kansei::chain::{Chain, Continuity};
 use kansei::geom::{Point, Vec2};
 use kansei::lac::LacSegment;
@@ -157,10 +157,7 @@ fn planted_chains_with_tablet_noise_come_back_as_planted() {
     for (k, case) in cases().iter().enumerate() {
         // A quarter of the size in millimetres with 0.02 mm of noise: a tablet's pen.
         let t = truth(case, Point::new(20.0, 30.0), 0.25);
-        let mut rng = Rng::new(11 + k as u64);
-        let stroke = samples(&t, case.samples, |p| {
-            p + Vec2::new(0.02 * rng.normal(), 0.02 * rng.normal())
-        });
+        let stroke = jittered(&t, case.samples, 0.02, 11 + k as u64);
         check(
             &format!("{}, 0.02 mm noise", case.name),
             &t,
@@ -216,10 +213,7 @@ fn rms(chain: &Chain) -> f64 {
 fn a_clear_spiral_has_a_determined_alpha_near_the_planted_one() {
     // One α = 1 segment whose curvature rises fivefold, with light noise.
     let t = planted_at(Point::new(50.0, 50.0), 0.004, &[(220.0, Some(1.0), 0.02)]);
-    let mut rng = Rng::new(5);
-    let stroke = samples(&t, 300, |p| {
-        p + Vec2::new(0.1 * rng.normal(), 0.1 * rng.normal())
-    });
+    let stroke = jittered(&t, 300, 0.1, 5);
     let chain = chain_with(&stroke, &PipelineOptions::default());
     assert_eq!(chain.segments.len(), 1);
     let s = &chain.segments[0];
@@ -266,10 +260,7 @@ fn a_clear_spiral_has_a_determined_alpha_near_the_planted_one() {
 fn a_near_arc_says_its_alpha_is_undetermined() {
     // Curvature varying by 2 % over the segment: every α draws nearly the same curve.
     let t = planted_at(Point::new(50.0, 50.0), 0.01, &[(200.0, Some(0.5), 0.0102)]);
-    let mut rng = Rng::new(9);
-    let stroke = samples(&t, 300, |p| {
-        p + Vec2::new(0.1 * rng.normal(), 0.1 * rng.normal())
-    });
+    let stroke = jittered(&t, 300, 0.1, 9);
     let chain = chain_with(&stroke, &PipelineOptions::default());
     for s in &chain.segments {
         // An arc (no α), or an α the record does not present as a finding.

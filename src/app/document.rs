@@ -24,8 +24,10 @@ pub struct StrokeId(pub u64);
 /// The fitting knobs the panel exposes, per stroke.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct FitSettings {
-    /// Tolerance in the document's units. Default `None`: the unit's default
-    /// ([`Units::default_tolerance`]).
+    /// Tolerance in the document's units (the panel's `custom`). Default `None`: the screen
+    /// preset at the zoom the stroke was drawn at ([`FitSettings::base_tolerance`]), or for a
+    /// stroke read from a file the unit's default ([`Units::default_tolerance`]), either raised
+    /// to the stroke's noise floor.
     pub tolerance: Option<f64>,
     /// α per segment. Default the range [−3, 3] ([`AlphaChoice::default`]).
     pub alpha: AlphaChoice,

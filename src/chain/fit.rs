@@ -80,6 +80,15 @@ const MERGE_UNREACHABLE_FACTOR: f64 = 1.5;
 /// tolerance against 0.237); 2 saves 2 % more for 6 more segments; 4 saves 6 % for none.
 const MERGE_ABANDON_FACTOR: f64 = 3.0;
 
+/// Whether a merge may drop a joint of this kind (curvature extrema, inflections and
+/// subdivisions are the B-spline's or the cuts' candidates; starts, ends and corners stay).
+fn removable(kind: JointKind) -> bool {
+    matches!(
+        kind,
+        JointKind::CurvatureExtremum | JointKind::Subdivision | JointKind::Inflection
+    )
+}
+
 /// Longest run of segments [`Fitter::merge_fewest`] tries to replace by one: past eight, a run
 /// that the greedy merges and the cuts left apart is as good as never one segment, and every run
 /// costs an α search.
@@ -990,37 +999,13 @@ impl<'a> Fitter<'a> {
         let mut merged = false;
         let mut j = 1;
         while j + 1 < state.joints.len() {
-            let mergeable = matches!(
-                state.joints[j].kind,
-                JointKind::CurvatureExtremum | JointKind::Subdivision | JointKind::Inflection
-            );
-            if mergeable {
-                let (a, b) = (state.joints[j - 1], state.joints[j + 1]);
-                let union: Vec<usize> = state.samples[j - 1]
-                    .iter()
-                    .chain(&state.samples[j])
-                    .copied()
-                    .collect();
-                // The merged segment starts from its parts' α, weighted by their samples.
-                let (n0, n1) = (
-                    state.samples[j - 1].len() as f64,
-                    state.samples[j].len() as f64,
-                );
-                let guess = (n0 * state.alphas[j - 1] + n1 * state.alphas[j]) / (n0 + n1).max(1.0);
+            if removable(state.joints[j].kind) {
+                let (union, found) = self.search_merged(state, j - 1..j + 1);
                 // Too few samples to decide the merged shape: the search ran on the B-spline's
                 // points instead, and the merged segment must stay within the tolerance of them.
                 let sparse = union.len() < MIN_SPAN_SAMPLES;
-                if let Ok(found) = self.search(
-                    &a,
-                    &b,
-                    &union,
-                    (a.u, b.u),
-                    Some(guess),
-                    (
-                        MERGE_ABANDON_FACTOR * self.tolerance,
-                        MERGE_UNREACHABLE_FACTOR * self.tolerance,
-                    ),
-                ) && (!sparse || found.max <= self.tolerance)
+                if let Ok(found) = found
+                    && (!sparse || found.max <= self.tolerance)
                 {
                     let (alpha, search) = (found.alpha, found.search);
                     let mut trial = state.clone();
@@ -1044,6 +1029,38 @@ impl<'a> Fitter<'a> {
         merged
     }
 
+    /// Segments `run` of the state as one: their samples together, and the α search between the
+    /// run's outer joints, starting from the parts' α weighted by their samples and giving up as
+    /// a merge does ([`MERGE_ABANDON_FACTOR`], [`MERGE_UNREACHABLE_FACTOR`]).
+    fn search_merged(
+        &self,
+        state: &State,
+        run: std::ops::Range<usize>,
+    ) -> (Vec<usize>, Result<Searched, LacError>) {
+        let parts = &state.samples[run.clone()];
+        let union: Vec<usize> = parts.iter().flatten().copied().collect();
+        let weights: f64 = parts.iter().map(|l| l.len() as f64).sum();
+        let guess = parts
+            .iter()
+            .zip(&state.alphas[run.clone()])
+            .map(|(l, a)| l.len() as f64 * a)
+            .sum::<f64>()
+            / weights.max(1.0);
+        let (a, b) = (state.joints[run.start], state.joints[run.end]);
+        let found = self.search(
+            &a,
+            &b,
+            &union,
+            (a.u, b.u),
+            Some(guess),
+            (
+                MERGE_ABANDON_FACTOR * self.tolerance,
+                MERGE_UNREACHABLE_FACTOR * self.tolerance,
+            ),
+        );
+        (union, found)
+    }
+
     /// Merges runs of segments into single segments so that the chain has the fewest segments
     /// that hold the tolerance over its current joints, then the smallest sum of squared
     /// distances: a shortest path over the joints (dynamic programming), each edge one segment
@@ -1058,12 +1075,6 @@ impl<'a> Fitter<'a> {
         if m < 2 {
             return false;
         }
-        let removable = |j: usize| {
-            matches!(
-                state.joints[j].kind,
-                JointKind::CurvatureExtremum | JointKind::Subdivision | JointKind::Inflection
-            )
-        };
         let squares = |d: &[f64]| d.iter().map(|r| r * r).sum::<f64>();
         let own: Vec<f64> = (0..m)
             .map(|k| {
@@ -1086,35 +1097,16 @@ impl<'a> Fitter<'a> {
             let mut choice: Step = (best[j - 1].0 + 1, best[j - 1].1 + own[j - 1], j - 1, None);
             let lowest = j.saturating_sub(MAX_MERGE_RUN);
             let mut i = j - 1;
-            while i > lowest && removable(i) {
+            while i > lowest && removable(state.joints[i].kind) {
                 i -= 1;
                 // Segments i..j as one.
                 if best[i].0 + 1 > choice.0 {
                     continue;
                 }
-                let union: Vec<usize> = state.samples[i..j].iter().flatten().copied().collect();
+                let (union, found) = self.search_merged(state, i..j);
                 if union.len() < MIN_SPAN_SAMPLES {
                     continue;
                 }
-                let weights: f64 = state.samples[i..j].iter().map(|l| l.len() as f64).sum();
-                let guess = state.samples[i..j]
-                    .iter()
-                    .zip(&state.alphas[i..j])
-                    .map(|(l, a)| l.len() as f64 * a)
-                    .sum::<f64>()
-                    / weights.max(1.0);
-                let (a, b) = (state.joints[i], state.joints[j]);
-                let found = self.search(
-                    &a,
-                    &b,
-                    &union,
-                    (a.u, b.u),
-                    Some(guess),
-                    (
-                        MERGE_ABANDON_FACTOR * self.tolerance,
-                        MERGE_UNREACHABLE_FACTOR * self.tolerance,
-                    ),
-                );
                 let Ok(found) = found else {
                     break;
                 };

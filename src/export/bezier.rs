@@ -224,18 +224,6 @@ fn line_cubic(a: Point, b: Point) -> CubicBez {
     CubicBez::new(a, a.lerp(b, 1.0 / 3.0), a.lerp(b, 2.0 / 3.0), b)
 }
 
-/// Distance from `p` to the segment a–b.
-fn distance_to_chord(p: Point, a: Point, b: Point) -> f64 {
-    let ab = b - a;
-    let len2 = ab.hypot2();
-    let t = if len2 > 0.0 {
-        ((p - a).dot(ab) / len2).clamp(0.0, 1.0)
-    } else {
-        0.0
-    };
-    (p - (a + ab * t)).hypot()
-}
-
 /// The exact segment for measuring: its points every [`lac_spacing`] (chord error
 /// [`REFERENCE_CHORD_FRACTION`] × the accuracy, or that of the spacing actually used when the
 /// polyline's point cap widened it), with their arc lengths.
@@ -382,7 +370,7 @@ fn measure(reference: &[Point], chord: f64, cubics: &[CubicBez], accuracy: f64) 
                     let end = (start + CHORDS_PER_BLOCK).min(chords);
                     reference[start..=end]
                         .windows(2)
-                        .map(|w| distance_to_chord(q, w[0], w[1]))
+                        .map(|w| crate::geom::distance_to_segment(q, w[0], w[1]))
                         .fold(f64::INFINITY, f64::min)
                 },
             );

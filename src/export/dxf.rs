@@ -299,7 +299,7 @@ pub fn c2_spline(chain: &Chain, accuracy: f64) -> Option<(Vec<f64>, Vec<kurbo::P
             let lo = i.saturating_sub(3);
             let hi = (i + 3).min(points.len() - 1);
             let d = (lo..hi)
-                .map(|j| segment_distance(points[j], points[j + 1], q))
+                .map(|j| crate::geom::distance_to_segment(q, points[j], points[j + 1]))
                 .fold(f64::INFINITY, f64::min);
             back = back.max(d);
         }
@@ -310,16 +310,4 @@ pub fn c2_spline(chain: &Chain, accuracy: f64) -> Option<(Vec<f64>, Vec<kurbo::P
     }
     let scaled: Vec<f64> = knots.iter().map(|k| k * total).collect();
     Some((scaled, curve.control_points().to_vec(), error))
-}
-
-/// Distance from `q` to the segment `a`–`b`.
-fn segment_distance(a: Point, b: Point, q: Point) -> f64 {
-    let ab = b - a;
-    let length2 = ab.hypot2();
-    let t = if length2 > 0.0 {
-        ((q - a).dot(ab) / length2).clamp(0.0, 1.0)
-    } else {
-        0.0
-    };
-    q.distance(a + ab * t)
 }

@@ -344,7 +344,7 @@ pub fn draw_joints(pixmap: &mut Pixmap, scene: &Scene, view: &View, options: &Re
 /// segments ([`COMB_SCALE_SAMPLES`] per segment) a tooth of [`COMB_HEIGHT_FRACTION`] of the
 /// diagonal of [`scene_bounds`](super::scene_bounds). `None` without segments or curvature.
 pub fn auto_comb_scale(scene: &Scene) -> Option<f64> {
-    comb_scale_for(scene, scene_diagonal(scene)?, false)
+    comb_scale_for(comb_curvatures(scene)?, scene_diagonal(scene)?, false)
 }
 
 /// The diagonal of [`scene_bounds`](super::scene_bounds).
@@ -374,10 +374,10 @@ fn comb_curvatures(scene: &Scene) -> Option<(f64, f64)> {
     Some((at(COMB_QUANTILE), at(0.5)))
 }
 
-/// [`auto_comb_scale`] for a scene of this diagonal; with `log`, the scale that gives the
-/// quantile's tooth the same height on the logarithmic comb ([`comb_tooth`]).
-fn comb_scale_for(scene: &Scene, diagonal: f64, log: bool) -> Option<f64> {
-    let (reference, median) = comb_curvatures(scene)?;
+/// [`auto_comb_scale`] for a scene of this diagonal, from its [`comb_curvatures`] (quantile,
+/// median); with `log`, the scale that gives the quantile's tooth the same height on the
+/// logarithmic comb ([`comb_tooth`]).
+fn comb_scale_for((reference, median): (f64, f64), diagonal: f64, log: bool) -> Option<f64> {
     let height = COMB_HEIGHT_FRACTION * diagonal;
     let unit_tooth = comb_tooth(reference, 1.0, log.then_some(median)).abs();
     let scale = height / unit_tooth;
@@ -404,14 +404,15 @@ pub fn draw_comb(pixmap: &mut Pixmap, scene: &Scene, view: &View, options: &Rend
     let Some(diagonal) = scene_diagonal(scene) else {
         return;
     };
-    let log = options
-        .overlays
-        .comb_log
-        .then(|| comb_curvatures(scene).map(|(_, median)| median))
-        .flatten();
+    // The scene's curvatures, once: the log comb's reference and the automatic scale.
+    let needed = options.overlays.comb_log || options.comb_scale.is_none();
+    let curvatures = needed.then(|| comb_curvatures(scene)).flatten();
+    let log = curvatures
+        .filter(|_| options.overlays.comb_log)
+        .map(|(_, median)| median);
     let Some(scale) = options
         .comb_scale
-        .or_else(|| comb_scale_for(scene, diagonal, log.is_some()))
+        .or_else(|| curvatures.and_then(|c| comb_scale_for(c, diagonal, log.is_some())))
     else {
         return;
     };

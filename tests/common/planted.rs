@@ -123,3 +123,12 @@ pub fn profile_error(chains: &[Chain], truth: &[LacSegment]) -> f64 {
     }
     diff / scale
 }
+
+/// [`samples`] with Gaussian noise of deviation `sigma` on each coordinate (a pen's jitter),
+/// drawn from a generator seeded with `seed`.
+pub fn jittered(chain: &[LacSegment], n: usize, sigma: f64, seed: u64) -> Stroke {
+    let mut rng = super::Rng::new(seed);
+    samples(chain, n, |p| {
+        p + kurbo::Vec2::new(sigma * rng.normal(), sigma * rng.normal())
+    })
+}
