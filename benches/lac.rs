@@ -36,7 +36,9 @@
 //!    stderr): for each stroke, rounds of one run of each configuration (full pipeline, the same
 //!    with `continuity` g2, splits only, both kurbo variants; interleaved so all see the same
 //!    machine state), the median over the rounds; then the median over strokes and the median
-//!    per-stroke ratios g2/full and kansei/kurbo,
+//!    per-stroke ratios g2/full and kansei/kurbo; and, at twice each stroke's own tolerance
+//!    ([`LOOSE_FACTOR`]), the fit on the stroke's tolerance ladder (`fit_with_noise` with that
+//!    tolerance, what `kansei fit --tolerance` does) against one fresh fit there (`lad/fr`),
 //!    broken down by stroke size (≤ 600 samples, more). Strokes get at least 3 rounds unless
 //!    they have already taken 2 s (the largest strokes take seconds per full-pipeline run and get
 //!    one or two: the table prints the count). Issue 18's target is the full pipeline's median
@@ -59,7 +61,7 @@ use criterion::{BenchmarkId, Criterion, SamplingMode};
 use kansei::geom::{Point, Vec2};
 use kansei::lac::segment::LacSegment;
 use kansei::lac::yoshida_saito::fit_g1;
-use kansei::pipeline::{PipelineOptions, fit_stroke};
+use kansei::pipeline::{PipelineOptions, StrokeOutcome, fit_stroke, fit_with_noise};
 use kansei::stroke::{Stroke, StrokeFile};
 use kurbo::BezPath;
 use kurbo::simplify::{SimplifyOptions, simplify_bezpath};
@@ -82,6 +84,10 @@ const POINT_COUNT: usize = 64;
 
 /// Strokes with at most this many samples form the "small" class of the issue's target.
 const SMALL_STROKE: usize = 600;
+
+/// The loose configurations fit at this multiple of each stroke's own tolerance (the app's
+/// `loose` preset is 2.7 times its `normal` one).
+const LOOSE_FACTOR: f64 = 2.0;
 
 /// Issue 18's target: the full pipeline's median per small stroke in the default mode, seconds.
 const TARGET_SECONDS: f64 = 0.3e-3;
@@ -239,15 +245,19 @@ enum Config {
     KanseiSplitsOnly,
     KurboSimplify,
     KurboSmoothJoins,
+    KanseiLoose,
+    KanseiLooseFresh,
 }
 
 impl Config {
-    const ALL: [Config; 5] = [
+    const ALL: [Config; 7] = [
         Config::KanseiFull,
         Config::KanseiFullG2,
         Config::KanseiSplitsOnly,
         Config::KurboSimplify,
         Config::KurboSmoothJoins,
+        Config::KanseiLoose,
+        Config::KanseiLooseFresh,
     ];
 
     fn name(self) -> &'static str {
@@ -257,6 +267,8 @@ impl Config {
             Config::KanseiSplitsOnly => "kansei_splits_only",
             Config::KurboSimplify => "kurbo_simplify",
             Config::KurboSmoothJoins => "kurbo_simplify_joins70",
+            Config::KanseiLoose => "kansei_loose_ladder",
+            Config::KanseiLooseFresh => "kansei_loose_fresh",
         }
     }
 
@@ -280,6 +292,32 @@ impl Config {
                 let mut g2 = full.clone();
                 g2.chain.continuity = kansei::chain::Continuity::G2;
                 Config::KanseiFull.run(case, &g2, splits)
+            }
+            // Twice the stroke's own tolerance, as `kansei fit --tolerance` gives it: met on the
+            // stroke's tolerance ladder (several fits, never more segments than a tighter
+            // tolerance)...
+            Config::KanseiLoose => {
+                let own = full.stroke_tolerance(&case.stroke, case.units).own;
+                let loose = full.clone().with_tolerance(LOOSE_FACTOR * own);
+                match fit_with_noise(&case.stroke, 0, case.units, &loose) {
+                    StrokeOutcome::Curves(fits) => fits
+                        .iter()
+                        .map(|f| f.chain.as_ref().map_or(0, |ch| ch.segments.len()))
+                        .sum(),
+                    StrokeOutcome::Dot(_) => 0,
+                    StrokeOutcome::Failed(_) => usize::MAX,
+                }
+            }
+            // ... against one fresh fit at that tolerance (no such promise).
+            Config::KanseiLooseFresh => {
+                let own = full.stroke_tolerance(&case.stroke, case.units).own;
+                fit_stroke(&case.stroke, 0, LOOSE_FACTOR * own, full)
+                    .map(|fits| {
+                        fits.iter()
+                            .map(|f| f.chain.as_ref().map_or(0, |ch| ch.segments.len()))
+                            .sum()
+                    })
+                    .unwrap_or(usize::MAX)
             }
             Config::KanseiSplitsOnly => fit_stroke(&case.stroke, 0, case.tolerance, splits)
                 .map(|fits| fits.iter().map(|f| f.spans.spans.len()).sum())
@@ -310,7 +348,10 @@ fn bench_pipeline(c: &mut Criterion, cases: &[Case]) {
         match config {
             // One pass over the 37 strokes takes about a minute; criterion needs at least 10
             // samples plus warm-up, over 10 minutes. The summary below times it per stroke.
-            Config::KanseiFull | Config::KanseiFullG2 => continue,
+            Config::KanseiFull
+            | Config::KanseiFullG2
+            | Config::KanseiLoose
+            | Config::KanseiLooseFresh => continue,
             // About 0.1 s per pass: 10 samples of one pass each.
             Config::KanseiSplitsOnly => group
                 .sampling_mode(SamplingMode::Flat)
@@ -377,9 +418,9 @@ struct Row {
     samples: usize,
     rounds: usize,
     /// Median seconds per configuration, in [`Config::ALL`] order.
-    median: [f64; 5],
+    median: [f64; 7],
     /// Output segments per configuration (chain segments ×2, spans, Bézier segments ×2).
-    outputs: [usize; 5],
+    outputs: [usize; 7],
 }
 
 /// The 1-minute load average, for the record (the machine is shared).
@@ -404,9 +445,9 @@ fn summary(cases: &[Case]) {
             let mut g2 = full.clone();
             g2.chain.continuity = kansei::chain::Continuity::G2;
             let options = match k {
-                0 => &full,
                 1 => &g2,
-                _ => &splits,
+                2 => &splits,
+                _ => &full,
             };
             let err = match fit_stroke(&case.stroke, 0, case.tolerance, options) {
                 Err(e) => e.to_string(),
@@ -416,7 +457,7 @@ fn summary(cases: &[Case]) {
             continue;
         }
         let stroke_start = Instant::now();
-        let mut times: [Vec<f64>; 5] = Default::default();
+        let mut times: [Vec<f64>; 7] = Default::default();
         loop {
             for (k, config) in Config::ALL.into_iter().enumerate() {
                 times[k].push(time_batch(config, case, &full, &splits));
@@ -462,16 +503,19 @@ fn summary(cases: &[Case]) {
     );
     eprintln!(
         "outputs = LAC chain segments (g1 | g2) | spans | kurbo segments | kurbo70 segments (a \
-         polyline of n samples has n − 1 segments)"
+         polyline of n samples has n − 1 segments) | ladder | fresh at 2× own"
     );
     eprintln!(
-        "{:<29} {:>7} {:>6} {:>10} {:>9} {:>7} {:>9} {:>9} {:>9} {:>10} {:>12} {:>24}",
+        "{:<29} {:>7} {:>6} {:>10} {:>9} {:>7} {:>9} {:>9} {:>8} {:>9} {:>9} {:>9} {:>10} {:>12} {:>30}",
         "stroke",
         "samples",
         "rounds",
         "full ms",
         "g2 ms",
         "g2/full",
+        "ladder ms",
+        "fresh ms",
+        "lad/fr",
         "splits ms",
         "kurbo ms",
         "kurbo70",
@@ -481,21 +525,30 @@ fn summary(cases: &[Case]) {
     );
     for r in &rows {
         eprintln!(
-            "{:<29} {:>7} {:>6} {:>10.3} {:>9.3} {:>7.1} {:>9.3} {:>9.4} {:>9.4} {:>10.0} {:>12.1} {:>24}",
+            "{:<29} {:>7} {:>6} {:>10.3} {:>9.3} {:>7.1} {:>9.3} {:>9.3} {:>8.1} {:>9.3} {:>9.4} {:>9.4} {:>10.0} {:>12.1} {:>30}",
             r.name,
             r.samples,
             r.rounds,
             ms(r.median[0]),
             ms(r.median[1]),
             r.median[1] / r.median[0],
+            ms(r.median[5]),
+            ms(r.median[6]),
+            r.median[5] / r.median[6],
             ms(r.median[2]),
             ms(r.median[3]),
             ms(r.median[4]),
             r.median[0] / r.median[3],
             r.median[0] / r.median[4],
             format!(
-                "{} | {} | {} | {} | {}",
-                r.outputs[0], r.outputs[1], r.outputs[2], r.outputs[3], r.outputs[4]
+                "{} | {} | {} | {} | {} | {} | {}",
+                r.outputs[0],
+                r.outputs[1],
+                r.outputs[2],
+                r.outputs[3],
+                r.outputs[4],
+                r.outputs[5],
+                r.outputs[6]
             ),
         );
     }
@@ -509,12 +562,15 @@ fn summary(cases: &[Case]) {
          per-stroke ratios) ==="
     );
     eprintln!(
-        "{:<14} {:>6} {:>10} {:>9} {:>7} {:>9} {:>9} {:>9} {:>10} {:>12} {:>12} {:>12}",
+        "{:<14} {:>6} {:>10} {:>9} {:>7} {:>9} {:>9} {:>8} {:>9} {:>9} {:>9} {:>10} {:>12} {:>12} {:>12}",
         "strokes",
         "count",
         "full ms",
         "g2 ms",
         "g2/full",
+        "ladder ms",
+        "fresh ms",
+        "lad/fr",
         "splits ms",
         "kurbo ms",
         "kurbo70",
@@ -545,12 +601,15 @@ fn summary(cases: &[Case]) {
             (false, _) => "(no target)",
         };
         eprintln!(
-            "{:<14} {:>6} {:>10.3} {:>9.3} {:>7.1} {:>9.3} {:>9.4} {:>9.4} {:>10.0} {:>12.0} {:>12.1} {:>12}",
+            "{:<14} {:>6} {:>10.3} {:>9.3} {:>7.1} {:>9.3} {:>9.3} {:>8.1} {:>9.3} {:>9.4} {:>9.4} {:>10.0} {:>12.0} {:>12.1} {:>12}",
             label,
             class.len(),
             ms(full_median),
             ms(col(&|r| r.median[1])),
             col(&|r| r.median[1] / r.median[0]),
+            ms(col(&|r| r.median[5])),
+            ms(col(&|r| r.median[6])),
+            col(&|r| r.median[5] / r.median[6]),
             ms(col(&|r| r.median[2])),
             ms(col(&|r| r.median[3])),
             ms(col(&|r| r.median[4])),

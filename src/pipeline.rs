@@ -81,12 +81,16 @@ impl PipelineOptions {
         let points: Vec<crate::geom::Point> = stroke.samples.iter().map(|s| s.point()).collect();
         let noise = NoiseFloor::estimate(&points);
         let base = self.base_tolerance.unwrap_or(units.default_tolerance());
-        let tolerance = match self.tolerance {
-            Some(t) => t,
-            None if self.noise_floor => base.max(noise.floor),
-            None => base,
+        let own = if self.noise_floor {
+            base.max(noise.floor)
+        } else {
+            base
         };
-        StrokeTolerance { tolerance, noise }
+        StrokeTolerance {
+            tolerance: self.tolerance.unwrap_or(own),
+            own,
+            noise,
+        }
     }
 
     /// The default options without the log-aesthetic stage: prepare, B-spline and split only.
@@ -123,6 +127,10 @@ impl PipelineOptions {
 pub struct StrokeTolerance {
     /// The tolerance, in the stroke's units.
     pub tolerance: f64,
+    /// The stroke's own tolerance: what `tolerance` is when none is given (the base tolerance
+    /// raised to the noise floor), and the first rung of its tolerance ladder
+    /// ([`fit_on_ladder`]).
+    pub own: f64,
     /// The stroke's estimated noise.
     pub noise: NoiseFloor,
 }
@@ -391,8 +399,10 @@ pub fn fit_one(
     }
 }
 
-/// [`fit_one`] at the stroke's own tolerance ([`PipelineOptions::stroke_tolerance`]), its
-/// curves carrying the noise it was chosen by.
+/// [`fit_one`] at the stroke's tolerance ([`PipelineOptions::stroke_tolerance`]), its curves
+/// carrying the noise it was chosen by. A tolerance looser than the stroke's own
+/// ([`StrokeTolerance::own`]) is met on the stroke's tolerance ladder ([`fit_on_ladder`]), so
+/// that loosening the tolerance never adds segments.
 pub fn fit_with_noise(
     stroke: &Stroke,
     index: usize,
@@ -400,13 +410,115 @@ pub fn fit_with_noise(
     options: &PipelineOptions,
 ) -> StrokeOutcome {
     let chosen = options.stroke_tolerance(stroke, units);
-    let mut outcome = fit_one(stroke, index, chosen.tolerance, options);
+    let mut outcome = if options.lac && chosen.tolerance > chosen.own {
+        fit_on_ladder(stroke, index, chosen, options)
+    } else {
+        fit_one(stroke, index, chosen.tolerance, options)
+    };
     if let StrokeOutcome::Curves(curves) = &mut outcome {
         for c in curves {
             c.noise = Some(chosen.noise);
         }
     }
     outcome
+}
+
+/// Ratio between consecutive rungs of a stroke's tolerance ladder ([`fit_on_ladder`]): a
+/// tolerance between two rungs is met by fits at most this much tighter than it. 1.25 keeps that
+/// loss small (a fit at 80 % of the tolerance asked has about as many segments, measured over
+/// the fixture strokes) while a tolerance four times the stroke's own costs seven fits, each
+/// cheaper than the first (looser fits have fewer segments).
+pub const LADDER_RATIO: f64 = 1.1;
+
+/// Most rungs a ladder climbs: past 24 rungs (about 210 times the stroke's own tolerance) the
+/// top rung stands for every looser tolerance (still never more segments; the fit is then
+/// tighter than asked).
+pub const LADDER_MAX_RUNGS: usize = 40;
+
+/// Fits a stroke to a tolerance looser than its own ([`StrokeTolerance::own`]) on its tolerance
+/// ladder: the rungs `own · LADDER_RATIO^k` at or below the tolerance (at most
+/// [`LADDER_MAX_RUNGS`]) are each fitted, and among the fits whose chains hold their rung, the
+/// one with the fewest segments is kept (the tightest among equals). Every rung's fit holds the tolerance (its own rung is at most it),
+/// and the rungs depend on the stroke alone: a looser tolerance adds rungs and drops none, so
+/// its fewest segments are never more. A fresh fit at the tolerance itself is not a candidate:
+/// each stage decides afresh at each tolerance (corners, B-spline knots, split points, cuts and
+/// merges), which made the count rise on loosening for half the fixture strokes. A dot at the
+/// tolerance is a dot (no segment). The curves state the tolerance asked for.
+pub fn fit_on_ladder(
+    stroke: &Stroke,
+    index: usize,
+    chosen: StrokeTolerance,
+    options: &PipelineOptions,
+) -> StrokeOutcome {
+    let tolerance = chosen.tolerance;
+    if !(tolerance.is_finite() && chosen.own.is_finite() && chosen.own > 0.0) {
+        return fit_one(stroke, index, tolerance, options);
+    }
+    // A dot at the tolerance beats any rung; checked first (validation too), as fit_one does.
+    if stroke.validate(index).is_err() || stroke.as_dot(tolerance).is_some() {
+        return fit_one(stroke, index, tolerance, options);
+    }
+    // Rungs from the top: looser fits are cheaper, and one segment cannot be beaten (a dot at a
+    // rung would be a dot at the tolerance).
+    let rungs: Vec<f64> = (0..LADDER_MAX_RUNGS as i32)
+        .map(|k| chosen.own * LADDER_RATIO.powi(k))
+        .take_while(|&r| r <= tolerance)
+        .collect();
+    let count = |curves: &[CurveFit]| -> usize {
+        curves
+            .iter()
+            .map(|c| c.chain.as_ref().map_or(0, |ch| ch.segments.len()))
+            .sum()
+    };
+    // A rung's fit is a candidate if every chain holds the rung (the chain states whether it
+    // does); where none does, the fit closest to the samples stands.
+    let holds = |curves: &[CurveFit]| {
+        curves
+            .iter()
+            .all(|c| c.chain.as_ref().is_some_and(|ch| ch.within_tolerance))
+    };
+    let worst = |curves: &[CurveFit]| {
+        curves
+            .iter()
+            .filter_map(|c| c.chain.as_ref().map(|ch| ch.max_deviation))
+            .fold(0.0, f64::max)
+    };
+    let mut best: Option<(usize, Vec<CurveFit>)> = None;
+    let mut closest: Option<(f64, Vec<CurveFit>)> = None;
+    let mut last_failure = None;
+    for &rung in rungs.iter().rev() {
+        match fit_one(stroke, index, rung, options) {
+            StrokeOutcome::Curves(curves) if holds(&curves) => {
+                let n = count(&curves);
+                if best.as_ref().is_none_or(|(m, _)| n <= *m) {
+                    best = Some((n, curves));
+                    if n <= 1 {
+                        break;
+                    }
+                }
+            }
+            StrokeOutcome::Curves(curves) => {
+                let w = worst(&curves);
+                if closest.as_ref().is_none_or(|(c, _)| w < *c) {
+                    closest = Some((w, curves));
+                }
+            }
+            other => last_failure = Some(other),
+        }
+    }
+    match best.map(|(_, c)| c).or(closest.map(|(_, c)| c)) {
+        Some(mut curves) => {
+            for c in &mut curves {
+                c.tolerance = tolerance;
+                c.bspline.within_tolerance = c.bspline.max_deviation <= tolerance;
+                if let Some(chain) = &mut c.chain {
+                    chain.within_tolerance = chain.max_deviation <= tolerance;
+                }
+            }
+            StrokeOutcome::Curves(curves)
+        }
+        None => last_failure.unwrap_or_else(|| fit_one(stroke, index, tolerance, options)),
+    }
 }
 
 /// Runs the curve stages on one stroke that is valid ([`Stroke::validate`]) and not a dot
