@@ -38,7 +38,10 @@
 //! Starting point: the G1 chain (its joints' poses, lengths and α). A joint's curvature starts
 //! at the B-spline's there (the G1 chain's two sides differ, the C2 B-spline within the
 //! tolerance of the same samples has one value), each α at the one that keeps the G1 segment's
-//! turning.
+//! turning. Where the fit cannot start from there (the first projection onto the constraints
+//! fails: 16 parts of the fixture strokes) or does not end within the tolerance, it is run
+//! again with each joint's curvature at the geometric mean of the G1 chain's two sides. A part of
+//! one segment has no joint to make smooth and is kept as it is.
 //!
 //! ## Inflections and lines
 //! A log-aesthetic segment with α ≥ 0 cannot reach κ = 0 at a finite point, so where the chain
@@ -770,13 +773,44 @@ fn smooth_part(smooth: &SmoothInput) -> Option<Chain> {
     for list in &mut assign {
         list.retain(|&i| !std::mem::replace(&mut taken[i], true));
     }
+    // One segment has no joint to make smooth: it is its own G2 (and C3) chain.
+    if chain.segments.len() == 1 {
+        return Some(Chain {
+            continuity: smooth.continuity,
+            ..chain.clone()
+        });
+    }
+    // The joints' curvatures start at the B-spline's; where the fit cannot start or finish from
+    // there, at the G1 chain's own (the two sides' geometric mean).
+    [JointStart::Spline, JointStart::Chain]
+        .into_iter()
+        .find_map(|start| smooth_from(smooth, assign.clone(), start))
+}
+
+/// Where the joints' curvatures of the starting chain come from (see [`start_layout`]).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum JointStart {
+    /// The B-spline's curvature at the joint, where its sign agrees with the chain's.
+    Spline,
+    /// The G1 chain's two sides' geometric mean.
+    Chain,
+}
+
+/// [`smooth_part`] from the joint curvatures of `start`.
+fn smooth_from(
+    smooth: &SmoothInput,
+    mut assign: Vec<Vec<usize>>,
+    joint_start: JointStart,
+) -> Option<Chain> {
+    let points = smooth.input.points;
+    let chain = smooth.chain;
     let max_log_kappa = curvature_cap(points, smooth.tolerance).ln();
     let extent = points
         .iter()
         .map(|p| p.distance(points[0]))
         .fold(smooth.tolerance, f64::max);
     let min_log_kappa = -(MAX_RADIUS_EXTENTS * extent).ln();
-    let (mut layout, mut x) = start_layout(smooth, &mut assign, max_log_kappa)?;
+    let (mut layout, mut x) = start_layout(smooth, &mut assign, max_log_kappa, joint_start)?;
     let start = chain.segments[0].segment.start();
     let end = chain.segments.last()?.segment.end();
     let extent = points
@@ -860,6 +894,7 @@ fn start_layout(
     smooth: &SmoothInput,
     assign: &mut Vec<Vec<usize>>,
     max_log_kappa: f64,
+    joint_start: JointStart,
 ) -> Option<(Layout, Params)> {
     let segs: Vec<LacSegment> = smooth.chain.segments.iter().map(|s| s.segment).collect();
     let side = |s: &LacSegment| {
@@ -926,7 +961,10 @@ fn start_layout(
             u.push(0.0);
             continue;
         }
-        let spline = spline_kappa(j);
+        let spline = match joint_start {
+            JointStart::Spline => spline_kappa(j),
+            JointStart::Chain => 0.0,
+        };
         let magnitude = if spline * s > 0.0 { spline.abs() } else { g1 };
         sigma.push(s);
         u.push(magnitude.ln());
