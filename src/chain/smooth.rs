@@ -58,7 +58,10 @@
 //! cannot tell from a curve), and a segment may not grow beyond [`MAX_LENGTH_FACTOR`] times its
 //! starting length. A G1 joint that bends beyond those bounds (a hook, a needle) becomes a
 //! corner of the smooth chain, and the parts between such corners are fitted on their own,
-//! between fixed end points. When the solved chain leaves a sample farther than the tolerance
+//! between fixed end points. So does a joint the fit presses against the curvature bound while
+//! it still misses the tolerance (the G1 joint nearest it): the samples ask for a tighter bend
+//! there than a smooth chain may make (on the fixture strokes, 18 such corners made 16 more
+//! curves G2 throughout). When the solved chain leaves a sample farther than the tolerance
 //! from its nearest segment, every segment that misses is cut at its middle (a new joint with
 //! that point's curvature: the two halves are the same curve, so the chain stays on its
 //! constraints) and the fit runs again, at most [`MAX_CUT_ROUNDS`] rounds and until
@@ -692,7 +695,9 @@ pub(crate) fn smooth_chain(smooth: &SmoothInput) -> Option<Chain> {
     let mut max_deviation: f64 = 0.0;
     let mut all_smooth = true;
     let mut from = 0;
-    for &to in &cuts {
+    let mut next = 0;
+    while next < cuts.len() {
+        let to = cuts[next];
         let mut part = Chain {
             segments: segments[from..to].to_vec(),
             max_deviation: chain.max_deviation,
@@ -713,8 +718,15 @@ pub(crate) fn smooth_chain(smooth: &SmoothInput) -> Option<Chain> {
             ..*smooth
         });
         let fitted = match fitted {
-            Some(f) => f,
-            None => {
+            Ok(f) => f,
+            // The fit pressed a joint against the curvature bound and still missed: the samples
+            // bend there tighter than a smooth chain may, as at the joints cut above. It becomes
+            // a corner and the part is fitted as two.
+            Err(Missed::Bound(j)) if j > 0 && j < part.segments.len() => {
+                cuts.insert(next, from + j);
+                continue;
+            }
+            Err(_) => {
                 all_smooth = false;
                 part
             }
@@ -722,6 +734,7 @@ pub(crate) fn smooth_chain(smooth: &SmoothInput) -> Option<Chain> {
         max_deviation = max_deviation.max(fitted.max_deviation);
         out.extend(fitted.segments);
         from = to;
+        next += 1;
     }
     if cuts.len() == 1 && !all_smooth {
         return None;
@@ -749,8 +762,19 @@ fn curvature_cap(points: &[Point], tolerance: f64) -> f64 {
         .min(MAX_TURN_PER_SAMPLE / spacing.max(f64::MIN_POSITIVE))
 }
 
+/// Why a part's smooth fit failed.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum Missed {
+    /// It missed the tolerance with a joint's curvature on the bound
+    /// ([`MIN_RADIUS_TOLERANCES`], [`MAX_TURN_PER_SAMPLE`]): the G1 joint (index in the part,
+    /// 1..n) nearest it.
+    Bound(usize),
+    /// Otherwise (no chain meeting the constraints, or cuts that stopped helping).
+    Other,
+}
+
 /// [`smooth_chain`] of a chain without forced corners.
-fn smooth_part(smooth: &SmoothInput) -> Option<Chain> {
+fn smooth_part(smooth: &SmoothInput) -> Result<Chain, Missed> {
     let input = smooth.input;
     let chain = smooth.chain;
     let points = input.points;
@@ -775,16 +799,22 @@ fn smooth_part(smooth: &SmoothInput) -> Option<Chain> {
     }
     // One segment has no joint to make smooth: it is its own G2 (and C3) chain.
     if chain.segments.len() == 1 {
-        return Some(Chain {
+        return Ok(Chain {
             continuity: smooth.continuity,
             ..chain.clone()
         });
     }
     // The joints' curvatures start at the B-spline's; where the fit cannot start or finish from
     // there, at the G1 chain's own (the two sides' geometric mean).
-    [JointStart::Spline, JointStart::Chain]
-        .into_iter()
-        .find_map(|start| smooth_from(smooth, assign.clone(), start))
+    let mut missed = Missed::Other;
+    for start in [JointStart::Spline, JointStart::Chain] {
+        match smooth_from(smooth, assign.clone(), start) {
+            Ok(chain) => return Ok(chain),
+            Err(Missed::Bound(j)) if missed == Missed::Other => missed = Missed::Bound(j),
+            Err(_) => {}
+        }
+    }
+    Err(missed)
 }
 
 /// Where the joints' curvatures of the starting chain come from (see [`start_layout`]).
@@ -801,7 +831,7 @@ fn smooth_from(
     smooth: &SmoothInput,
     mut assign: Vec<Vec<usize>>,
     joint_start: JointStart,
-) -> Option<Chain> {
+) -> Result<Chain, Missed> {
     let points = smooth.input.points;
     let chain = smooth.chain;
     let max_log_kappa = curvature_cap(points, smooth.tolerance).ln();
@@ -810,9 +840,10 @@ fn smooth_from(
         .map(|p| p.distance(points[0]))
         .fold(smooth.tolerance, f64::max);
     let min_log_kappa = -(MAX_RADIUS_EXTENTS * extent).ln();
-    let (mut layout, mut x) = start_layout(smooth, &mut assign, max_log_kappa, joint_start)?;
+    let (mut layout, mut x) =
+        start_layout(smooth, &mut assign, max_log_kappa, joint_start).ok_or(Missed::Other)?;
     let start = chain.segments[0].segment.start();
-    let end = chain.segments.last()?.segment.end();
+    let end = chain.segments.last().ok_or(Missed::Other)?.segment.end();
     let extent = points
         .iter()
         .map(|p| p.distance(start))
@@ -830,9 +861,9 @@ fn smooth_from(
     let (mut best_worst, mut stalled) = (f64::INFINITY, 0);
     for _ in 0..=MAX_CUT_ROUNDS {
         if layout.n() > MAX_SEGMENTS {
-            return None;
+            return Err(Missed::Other);
         }
-        let evaluation = solve(&solver, &layout, &mut x, &mut assign)?;
+        let evaluation = solve(&solver, &layout, &mut x, &mut assign).ok_or(Missed::Other)?;
         let own: Vec<Vec<f64>> = evaluation
             .residuals
             .iter()
@@ -848,7 +879,7 @@ fn smooth_from(
                 smooth.chord_error,
             );
             if nearest <= smooth.tolerance {
-                return Some(finish(smooth, &layout, &evaluation, &assign, nearest));
+                return Ok(finish(smooth, &layout, &evaluation, &assign, nearest));
             }
         }
         if worst < best_worst {
@@ -857,7 +888,7 @@ fn smooth_from(
         } else {
             stalled += 1;
             if stalled >= STALLED_ROUNDS {
-                return None;
+                return Err(on_bound(&layout, &x, &chain.segments, max_log_kappa));
             }
         }
         // Every segment that misses the tolerance is cut, the last first (a cut shifts the
@@ -866,13 +897,54 @@ fn smooth_from(
             .filter(|&k| own[k].iter().any(|&d| d > smooth.tolerance))
             .collect();
         if missing.is_empty() {
-            return None;
+            return Err(Missed::Other);
         }
         for &k in missing.iter().rev() {
-            cut(&mut layout, &mut x, &mut assign, &evaluation, k)?;
+            cut(&mut layout, &mut x, &mut assign, &evaluation, k).ok_or(Missed::Other)?;
         }
     }
-    None
+    Err(on_bound(&layout, &x, &chain.segments, max_log_kappa))
+}
+
+/// Relative margin within which a joint's log-curvature counts as on its upper bound.
+const ON_BOUND: f64 = 1e-9;
+
+/// The failure of a fit that ended at `x`: [`Missed::Bound`] with the G1 joint nearest the
+/// interior joint whose curvature sits on the upper bound (the largest such G1 joint's own bend
+/// where the bound is reached inside a G1 segment), else [`Missed::Other`].
+fn on_bound(layout: &Layout, x: &Params, g1: &[ChainSegment], max_log_kappa: f64) -> Missed {
+    let n = layout.n();
+    let bend = |j: usize| -> f64 {
+        // A G1 joint's own bend: the larger curvature of its two sides.
+        match (g1.get(j.wrapping_sub(1)), g1.get(j)) {
+            (Some(a), Some(b)) => a.segment.kappa1().abs().max(b.segment.kappa0().abs()),
+            _ => 0.0,
+        }
+    };
+    let mut best: Option<(f64, usize)> = None;
+    for j in 1..n {
+        if layout.sigma[j] == 0.0
+            || x.u[j] < max_log_kappa - ON_BOUND * max_log_kappa.abs().max(1.0)
+        {
+            continue;
+        }
+        let (before, after) = (layout.origin[j - 1], layout.origin[j]);
+        // A joint between G1 segments is that G1 joint; one cut inside a G1 segment stands for
+        // the segment's end that bends more.
+        let candidate = if before == after && bend(after + 1) > bend(after) {
+            after + 1
+        } else {
+            after
+        };
+        if candidate == 0 || candidate >= g1.len() {
+            continue;
+        }
+        let b = bend(candidate);
+        if best.is_none_or(|(m, _)| b > m) {
+            best = Some((b, candidate));
+        }
+    }
+    best.map_or(Missed::Other, |(_, j)| Missed::Bound(j))
 }
 
 /// The largest own distance and the segment holding it.
