@@ -40,8 +40,11 @@
 //! tolerance of the same samples has one value), each α at the one that keeps the G1 segment's
 //! turning. Where the fit cannot start from there (the first projection onto the constraints
 //! fails: 16 parts of the fixture strokes) or does not end within the tolerance, it is run
-//! again with each joint's curvature at the geometric mean of the G1 chain's two sides. A part of
-//! one segment has no joint to make smooth and is kept as it is.
+//! again with each joint's curvature at the geometric mean of the G1 chain's two sides. Where the
+//! joint equations cannot be met from the G1 chain's poses, the chain is laid out forward from its
+//! start instead (the joints then meet by construction and only the end point must be moved
+//! there) and its poses start the fit. A part of one segment has no joint to make smooth and is
+//! kept as it is.
 //!
 //! ## Inflections and lines
 //! A log-aesthetic segment with α ≥ 0 cannot reach κ = 0 at a finite point, so where the chain
@@ -1613,7 +1616,28 @@ fn solve(
     assign: &mut [Vec<usize>],
 ) -> Option<Evaluation> {
     let c3_joints = layout.c3_joints();
-    let segments = project(Form::Shooting, solver, layout, x, &c3_joints, None)?;
+    let segments = match project(Form::Shooting, solver, layout, x, &c3_joints, None) {
+        Some(segments) => segments,
+        None => {
+            // The G1 chain's joints are too far from a smooth chain's for the joint equations
+            // (a tangent gap of 1.5 rad where no α ≤ 0 turns a segment ending at an inflection
+            // as far as the G1 one did): the chain laid out forward from its start meets them by
+            // construction and leaves only its end point to move. Its poses start the fit.
+            let mut forward = x.clone();
+            forward.theta0 = forward.pose[0].1;
+            let segments = project(
+                Form::Forward,
+                solver,
+                layout,
+                &mut forward,
+                &c3_joints,
+                None,
+            )?;
+            forward.pose = segments.iter().map(|s| (s.start(), s.theta0())).collect();
+            *x = forward;
+            segments
+        }
+    };
     let mut e = solver.evaluate(segments, assign, None);
     if reassign(solver, &e.segments, assign) {
         e = solver.evaluate(e.segments.clone(), assign, None);
