@@ -370,7 +370,7 @@ impl SegmentRecord {
                 .segment
                 .alpha()
                 .filter(|_| seg.alpha_uncertainty.is_some() || seg.alpha_bound.is_some())
-                .map(|_| seg.alpha_determined() && seg.alpha_bound.is_none()),
+                .map(|_| seg.alpha_determined()),
             lcg,
         }
     }
