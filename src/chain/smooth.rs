@@ -64,7 +64,9 @@
 //! between fixed end points. So does a joint the fit presses against the curvature bound while
 //! it still misses the tolerance (the G1 joint nearest it): the samples ask for a tighter bend
 //! there than a smooth chain may make (on the fixture strokes, 18 such corners made 16 more
-//! curves G2 throughout). When the solved chain leaves a sample farther than the tolerance
+//! curves G2 throughout). And where a part fails whose first (last) segment leaves its corner
+//! bending beyond the bound (a hook at a corner, κ = 12 /px on painting strokes), that segment's
+//! other joint becomes a corner and it stays as the G1 chain has it. When the solved chain leaves a sample farther than the tolerance
 //! from its nearest segment, every segment that misses is cut at its middle (a new joint with
 //! that point's curvature: the two halves are the same curve, so the chain stays on its
 //! constraints) and the fit runs again, at most [`MAX_CUT_ROUNDS`] rounds and until
@@ -727,6 +729,24 @@ pub(crate) fn smooth_chain(smooth: &SmoothInput) -> Option<Chain> {
             // a corner and the part is fitted as two.
             Err(Missed::Bound(j)) if j > 0 && j < part.segments.len() => {
                 cuts.insert(next, from + j);
+                continue;
+            }
+            // A part whose first (last) segment leaves its corner bending beyond the bound (a
+            // hook at a corner: κ = 12 /px on painting strokes) cannot start (end) smooth there:
+            // that segment's other joint becomes a corner, and it stays as the G1 chain has it.
+            Err(_) if part.segments.len() >= 2 && part.segments[0].segment.kappa0().abs() > cap => {
+                cuts.insert(next, from + 1);
+                continue;
+            }
+            Err(_)
+                if part.segments.len() >= 2
+                    && part.segments[part.segments.len() - 1]
+                        .segment
+                        .kappa1()
+                        .abs()
+                        > cap =>
+            {
+                cuts.insert(next, to - 1);
                 continue;
             }
             Err(_) => {
