@@ -1219,7 +1219,9 @@ impl<'a> Fitter<'a> {
                 trial.remember(i, segment, deviation, self.chord_error);
             }
             let off_curve = |p: Point, u: f64| self.pieces.project_local(p, u).distance;
-            if refine(&mut trial, options, None, &off_curve).is_none() {
+            // Only the merged segment moves (the runs around it end at fixed joints).
+            let active: Vec<bool> = (0..trial.len()).map(|k| k == i).collect();
+            if refine(&mut trial, options, Some(&active), &off_curve).is_none() {
                 continue;
             }
             let holds = (0..trial.len()).all(
