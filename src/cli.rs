@@ -122,8 +122,9 @@ pub struct ReplayArgs {
 /// Options shared by `fit` and `bench`.
 #[derive(Debug, Args, Clone)]
 pub struct FitSettings {
-    /// Largest distance from any sample to the curve, in the file's units
-    /// [default: mm 0.1, px 0.5, device 20].
+    /// Largest distance from any sample to the curve, in the file's units [default: per stroke,
+    /// mm 0.1, px 0.5, device 20, raised to the stroke's noise floor]. Below a stroke's floor the
+    /// fit follows the noise (with a warning); above its default, loosening never adds segments.
     #[arg(long, allow_negative_numbers = true)]
     pub tolerance: Option<f64>,
     /// Turning angle (degrees, 0 to 180) above which the stroke is cut at a corner.
