@@ -424,13 +424,14 @@ pub fn fit_with_noise(
 }
 
 /// Ratio between consecutive rungs of a stroke's tolerance ladder ([`fit_on_ladder`]): a
-/// tolerance between two rungs is met by fits at most this much tighter than it. 1.25 keeps that
-/// loss small (a fit at 80 % of the tolerance asked has about as many segments, measured over
-/// the fixture strokes) while a tolerance four times the stroke's own costs seven fits, each
-/// cheaper than the first (looser fits have fewer segments).
+/// tolerance between two rungs is met by fits at most this much tighter than it. Over 13
+/// tolerances from 0.5 to 4 px on the px fixture strokes, 1.1 leaves the ladder's segment counts
+/// within 4 % of fresh fits at each tolerance (1.25 cost half as much but left up to 9 % more
+/// segments); twice the stroke's own tolerance costs eight fits, each cheaper than the first
+/// (looser fits have fewer segments).
 pub const LADDER_RATIO: f64 = 1.1;
 
-/// Most rungs a ladder climbs: past 24 rungs (about 210 times the stroke's own tolerance) the
+/// Most rungs a ladder climbs: past 40 rungs (about 41 times the stroke's own tolerance) the
 /// top rung stands for every looser tolerance (still never more segments; the fit is then
 /// tighter than asked).
 pub const LADDER_MAX_RUNGS: usize = 40;
@@ -438,11 +439,12 @@ pub const LADDER_MAX_RUNGS: usize = 40;
 /// Fits a stroke to a tolerance looser than its own ([`StrokeTolerance::own`]) on its tolerance
 /// ladder: the rungs `own · LADDER_RATIO^k` at or below the tolerance (at most
 /// [`LADDER_MAX_RUNGS`]) are each fitted, and among the fits whose chains hold their rung, the
-/// one with the fewest segments is kept (the tightest among equals). Every rung's fit holds the tolerance (its own rung is at most it),
-/// and the rungs depend on the stroke alone: a looser tolerance adds rungs and drops none, so
-/// its fewest segments are never more. A fresh fit at the tolerance itself is not a candidate:
-/// each stage decides afresh at each tolerance (corners, B-spline knots, split points, cuts and
-/// merges), which made the count rise on loosening for half the fixture strokes. A dot at the
+/// one with the fewest segments is kept (the tightest among equals). Every rung's fit holds the
+/// tolerance (its own rung is at most it), and the rungs depend on the stroke alone: a looser
+/// tolerance adds rungs and drops none, so its fewest segments are never more. A fresh fit at
+/// the tolerance itself is not a candidate: each stage decides afresh at each tolerance
+/// (corners, B-spline knots, split points, cuts and merges), and fresh fits made the count rise
+/// on loosening for 7 of the 52 px fixture strokes above their own tolerance. A dot at the
 /// tolerance is a dot (no segment). The curves state the tolerance asked for.
 pub fn fit_on_ladder(
     stroke: &Stroke,
