@@ -272,3 +272,63 @@ fn a_near_arc_says_its_alpha_is_undetermined() {
         );
     }
 }
+
+/// Legs of `length` px from `corner` along the directions `a` then `b` (radians), sampled every
+/// `step` px with Gaussian jitter of `sigma` px, rounded to whole pixels as a mouse reports them.
+fn drawn_corner(a: f64, b: f64, length: f64, step: f64, sigma: f64, seed: u64) -> Stroke {
+    let mut rng = Rng::new(seed);
+    let corner = Point::new(400.0, 300.0);
+    let (da, db) = (Vec2::new(a.cos(), a.sin()), Vec2::new(b.cos(), b.sin()));
+    let n = (length / step) as usize;
+    let mut points: Vec<Point> = (0..=n)
+        .rev()
+        .map(|i| corner - da * (i as f64 * step))
+        .collect();
+    points.extend((1..=n).map(|i| corner + db * (i as f64 * step)));
+    Stroke::from_points(points.into_iter().map(|p| {
+        Point::new(
+            (p.x + sigma * rng.normal()).round(),
+            (p.y + sigma * rng.normal()).round(),
+        )
+    }))
+}
+
+#[test]
+fn a_drawn_corner_is_a_corner_not_a_curl() {
+    // An L and a V drawn with a mouse: straight legs meeting at a corner. The segment leaving
+    // the corner follows the legs, not the last pixels' wobble: no curl tighter than half a
+    // tolerance in radius where it starts or ends, every sample within the tolerance.
+    let cases = [("L", 0.0, std::f64::consts::FRAC_PI_2), ("V", 0.3, 2.4)];
+    for ((name, a, b), (step, sigma)) in cases
+        .into_iter()
+        .flat_map(|c| [(2.0, 0.3), (4.0, 0.7), (8.0, 0.7)].map(|n| (c, n)))
+    {
+        for seed in 1..=5 {
+            let stroke = drawn_corner(a, b, 120.0, step, sigma, seed);
+            let StrokeOutcome::Curves(curves) =
+                fit_with_noise(&stroke, 0, Units::Px, &PipelineOptions::default())
+            else {
+                panic!("{name} {seed}: no curves");
+            };
+            assert!(
+                curves.len() >= 2,
+                "{name} {seed}: the corner cuts the stroke"
+            );
+            for c in &curves {
+                let chain = c.chain.as_ref().expect("a chain");
+                assert!(chain.within_tolerance, "{name} {seed}");
+                let bound = 1.0 / (0.5 * c.tolerance);
+                let (first, last) = (
+                    &chain.segments[0],
+                    &chain.segments[chain.segments.len() - 1],
+                );
+                assert!(
+                    first.segment.kappa0().abs() <= bound && last.segment.kappa1().abs() <= bound,
+                    "{name} {seed}: κ {} / {} at the ends, bound {bound}",
+                    first.segment.kappa0(),
+                    last.segment.kappa1()
+                );
+            }
+        }
+    }
+}

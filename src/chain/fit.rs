@@ -96,6 +96,17 @@ fn removable(kind: JointKind) -> bool {
 /// default tolerance 30 merges as many runs as 100 (730 segments), 10 six fewer, 5 nine fewer.
 const REFINED_MERGE_FACTOR: f64 = 30.0;
 
+/// An angle brought into (−π, π].
+fn wrap_to_pi(a: f64) -> f64 {
+    let (sin, cos) = a.sin_cos();
+    sin.atan2(cos)
+}
+
+/// Steps in which [`Fitter::soften_ends`] turns an end tangent towards the chord: the first that
+/// removes the tight curl is kept, so the tangent moves no farther than it must, to a quarter of
+/// the turn.
+const SOFTEN_STEPS: usize = 4;
+
 /// Longest run of segments [`Fitter::merge_fewest`] tries to replace by one: past eight, a run
 /// that the greedy merges and the cuts left apart is as good as never one segment, and every run
 /// costs an α search.
@@ -315,6 +326,7 @@ pub fn fit_chain(
         if options.refine {
             fitter.merge_runs_refined(&mut state, &mut searches, &refine_options);
         }
+        fitter.soften_ends(&mut state, &mut searches);
     }
     // Straightening and merging check the segments they change, but a refinement guarded on the
     // distances alone, or a tangent turned at a run's end, can leave a neighbour that no α joins
@@ -1234,6 +1246,80 @@ impl<'a> Fitter<'a> {
             }
         }
         merged
+    }
+
+    /// Turns the tangent at a corner or a free end of the piece where the segment leaving it
+    /// curls tighter than its samples resolve (a radius under half a tolerance, or more than a
+    /// quarter turn between two samples: [`super::smooth::curvature_cap`]), so that the segment
+    /// need not: the tangent there is the piece's own (a corner is G0), and the B-spline's end
+    /// tangent, which the segment started from, follows the last few samples' noise. The tangent
+    /// is turned towards the segment's chord in steps ([`SOFTEN_STEPS`]) and the first turn whose
+    /// segment (α searched again) stays within the bound and holds its samples within the
+    /// tolerance is kept; nothing else moves. Returns whether any end was turned.
+    fn soften_ends(&self, state: &mut State<'a>, searches: &mut [AlphaSearch]) -> bool {
+        let n = state.len();
+        if n == 0 {
+            return false;
+        }
+        let cap = 1.0 / (super::smooth::MIN_RADIUS_TOLERANCES * self.tolerance);
+        let mut changed = false;
+        // (segment, joint at the end that may turn, whether that is its start)
+        for (k, j, at_start) in [(0, 0, true), (n - 1, n, false)] {
+            if !matches!(
+                state.joints[j].kind,
+                JointKind::Corner | JointKind::Start | JointKind::End
+            ) {
+                continue;
+            }
+            let Ok(segment) = state.segment(k) else {
+                continue;
+            };
+            let end_kappa = if at_start {
+                segment.kappa0()
+            } else {
+                segment.kappa1()
+            };
+            if end_kappa.abs() <= cap || state.samples[k].len() < MIN_SPAN_SAMPLES {
+                continue;
+            }
+            let (a, b) = (state.joints[k], state.joints[k + 1]);
+            let chord = b.p - a.p;
+            let chord_angle = chord.y.atan2(chord.x);
+            let from = state.joints[j].angle;
+            let turn = wrap_to_pi(chord_angle - from);
+            let points: Vec<Point> = state.points_of(k);
+            for step in 1..=SOFTEN_STEPS {
+                let angle = from + turn * step as f64 / SOFTEN_STEPS as f64;
+                let mut trial = state.clone();
+                trial.joints[j].angle = angle;
+                let (ta, tb) = (trial.joints[k], trial.joints[k + 1]);
+                let Ok(fit) = fit_span(
+                    ta.p,
+                    ta.tangent(),
+                    tb.p,
+                    tb.tangent(),
+                    &points,
+                    &SpanFitOptions {
+                        max_curvature: cap,
+                        ..self.span_options()
+                    },
+                ) else {
+                    continue;
+                };
+                if fit.deviation.max > self.tolerance || !within(&fit.segment, cap) {
+                    continue;
+                }
+                trial.alphas[k] = fit.segment.alpha().unwrap_or(self.options.alpha.middle());
+                trial.remember(k, fit.segment, fit.deviation, self.chord_error);
+                if matches!(trial.evaluate(k, self.chord_error), Ok(e) if e.max <= self.tolerance) {
+                    *state = trial;
+                    searches[k] = fit.search;
+                    changed = true;
+                    break;
+                }
+            }
+        }
+        changed
     }
 
     /// The output segments with their sample ranges and deviations.
