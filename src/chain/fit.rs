@@ -1249,9 +1249,8 @@ impl<'a> Fitter<'a> {
     }
 
     /// Turns the tangent at a corner or a free end of the piece where the segment leaving it
-    /// curls tighter than its samples resolve (a radius under half a tolerance, or more than a
-    /// quarter turn between two samples: [`super::smooth::curvature_cap`]), so that the segment
-    /// need not: the tangent there is the piece's own (a corner is G0), and the B-spline's end
+    /// curls tighter than its samples resolve (a radius under half a tolerance,
+    /// [`super::smooth::MIN_RADIUS_TOLERANCES`]), so that the segment need not: the tangent there is the piece's own (a corner is G0), and the B-spline's end
     /// tangent, which the segment started from, follows the last few samples' noise. The tangent
     /// is turned towards the segment's chord in steps ([`SOFTEN_STEPS`]) and the first turn whose
     /// segment (α searched again) stays within the bound and holds its samples within the

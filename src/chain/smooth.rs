@@ -777,7 +777,7 @@ pub(crate) fn smooth_chain(smooth: &SmoothInput) -> Option<Chain> {
 
 /// The largest curvature a smooth chain of these samples may have at a joint (see
 /// [`MIN_RADIUS_TOLERANCES`], [`MAX_TURN_PER_SAMPLE`]).
-pub(crate) fn curvature_cap(points: &[Point], tolerance: f64) -> f64 {
+fn curvature_cap(points: &[Point], tolerance: f64) -> f64 {
     let mut steps: Vec<f64> = points.windows(2).map(|w| w[0].distance(w[1])).collect();
     steps.sort_by(f64::total_cmp);
     let spacing = steps.get(steps.len() / 2).copied().unwrap_or(0.0);
