@@ -923,7 +923,15 @@ fn smooth_from(
             return Err(Missed::Other);
         }
         for &k in missing.iter().rev() {
-            cut(&mut layout, &mut x, &mut assign, &evaluation, k).ok_or(Missed::Other)?;
+            cut(
+                &mut layout,
+                &mut x,
+                &mut assign,
+                &evaluation,
+                k,
+                smooth.alpha,
+            )
+            .ok_or(Missed::Other)?;
         }
     }
     Err(on_bound(&layout, &x, &chain.segments, max_log_kappa))
@@ -1256,31 +1264,63 @@ fn split_at(
     assign.insert(k + 1, second);
 }
 
-/// Cuts segment k of the solved chain at its middle; `None` where the middle has no curvature to
-/// give the new joint (a line).
+/// Cuts segment k of the solved chain at its middle. A line (no curvature at its middle to give
+/// the new joint, its ends held at κ = 0 by its neighbours) that misses the tolerance must bend:
+/// the new joint bends towards its farthest sample, with the curvature of the arc through the
+/// line's ends that reaches it (8d/L², d that sample's distance), and both halves become spirals
+/// leaving κ = 0 (α ≤ [`ZERO_END_ALPHA`]). `None` where neither can be done (a line whose
+/// samples all lie on it, or an α choice without a negative α).
 fn cut(
     layout: &mut Layout,
     x: &mut Params,
     assign: &mut Vec<Vec<usize>>,
     evaluation: &Evaluation,
     k: usize,
+    choice: AlphaChoice,
 ) -> Option<()> {
     let seg = evaluation.segments.get(k)?;
     let half = 0.5 * seg.length();
     let kappa = seg.kappa(half);
-    if kappa == 0.0 || !kappa.is_finite() {
+    if !kappa.is_finite() {
         return None;
     }
     let pose = (seg.point(half), seg.theta(half));
+    if kappa != 0.0 {
+        split_at(
+            layout,
+            x,
+            assign,
+            k,
+            (kappa, pose),
+            half,
+            &evaluation.feet[k],
+        );
+        return Some(());
+    }
+    let farthest = evaluation
+        .residuals
+        .get(k)?
+        .iter()
+        .copied()
+        .max_by(|a, b| a.abs().total_cmp(&b.abs()))?;
+    let length = seg.length();
+    let bend = 8.0 * farthest / (length * length);
+    if bend == 0.0 || !bend.is_finite() {
+        return None;
+    }
+    let mut trial = (layout.clone(), x.clone(), assign.clone());
     split_at(
-        layout,
-        x,
-        assign,
+        &mut trial.0,
+        &mut trial.1,
+        &mut trial.2,
         k,
-        (kappa, pose),
+        (bend, pose),
         half,
         &evaluation.feet[k],
     );
+    set_alpha_bounds(choice, &mut trial.0, &mut trial.1, k)?;
+    set_alpha_bounds(choice, &mut trial.0, &mut trial.1, k + 1)?;
+    (*layout, *x, *assign) = trial;
     Some(())
 }
 
