@@ -255,8 +255,9 @@ fn every_recorded_stroke_in_g2_holds_its_tolerance_and_states_its_continuity() {
 /// Every recorded fixture stroke fitted with `--continuity g2` at its own tolerance: no stroke
 /// fails, every curve holds its tolerance, and every curve that says it is G2 is curvature-
 /// continuous to rounding at every joint that is not a corner. The issue asks for every curve;
-/// 3 of 263 stay G1 (parts where the smooth fit finds no chain that meets its constraints:
-/// two long scribble parts and one painting stroke's), so the share of G2 curves is held at 95 % against regressions.
+/// 3 of 263 stay G1 (parts where the smooth fit stalls or finds no chain that meets its
+/// constraints: two long scribble parts and one of the corners stroke's), so the share of G2
+/// curves is held at 95 % against regressions.
 #[test]
 fn every_fixture_stroke_in_g2_holds_its_tolerance_and_its_g2_curves_are_curvature_continuous() {
     let mut options = PipelineOptions::default();
