@@ -68,6 +68,12 @@ pub fn distance_to_segment(p: Point, a: Point, b: Point) -> f64 {
     (p - (a + ab * t)).hypot()
 }
 
+/// An angle brought into (−π, π].
+pub fn wrap_angle(a: f64) -> f64 {
+    let (sin, cos) = a.sin_cos();
+    sin.atan2(cos)
+}
+
 /// Arc length along the polyline at each of its points (0 at the first).
 pub fn cumulative_lengths(points: &[Point]) -> Vec<f64> {
     let mut acc = 0.0;

@@ -246,56 +246,11 @@ fn every_recorded_stroke_in_g2_holds_its_tolerance_and_states_its_continuity() {
             }
         }
     }
+    // The issue asks for every curve; 3 of 263 stay G1 (parts where the smooth fit stalls or
+    // finds no chain that meets its constraints: two long scribble parts and one of the corners
+    // stroke's), so the share of G2 curves is held at 95 % against regressions.
     assert!(
-        curves > 0 && smooth_curves > 0,
-        "{smooth_curves} of {curves}"
-    );
-}
-
-/// Every recorded fixture stroke fitted with `--continuity g2` at its own tolerance: no stroke
-/// fails, every curve holds its tolerance, and every curve that says it is G2 is curvature-
-/// continuous to rounding at every joint that is not a corner. The issue asks for every curve;
-/// 3 of 263 stay G1 (parts where the smooth fit stalls or finds no chain that meets its
-/// constraints: two long scribble parts and one of the corners stroke's), so the share of G2
-/// curves is held at 95 % against regressions.
-#[test]
-fn every_fixture_stroke_in_g2_holds_its_tolerance_and_its_g2_curves_are_curvature_continuous() {
-    let mut options = PipelineOptions::default();
-    options.chain.continuity = Continuity::G2;
-    let (mut curves, mut smooth) = (0, 0);
-    for name in common::fixture_names() {
-        let file = common::fixture(&name);
-        let out = kansei::pipeline::fit_file(&file, &options).expect("options are valid");
-        assert!(out.failures.is_empty(), "{name}: {:?}", out.failures);
-        for c in &out.curves {
-            let chain = c.chain.as_ref().expect("a chain");
-            assert!(
-                chain.within_tolerance,
-                "{name} stroke {}: {} > {}",
-                c.stroke, chain.max_deviation, c.tolerance
-            );
-            curves += 1;
-            if chain.continuity != Continuity::G2 {
-                continue;
-            }
-            smooth += 1;
-            for w in chain.segments.windows(2) {
-                if w[1].start == kansei::chain::JointKind::Corner {
-                    continue;
-                }
-                let (a, b) = (w[0].segment.kappa1(), w[1].segment.kappa0());
-                let scale = a.abs().max(b.abs());
-                let jump = if scale == 0.0 {
-                    0.0
-                } else {
-                    (a - b).abs() / scale
-                };
-                assert!(jump <= G2_JUMP, "{name} stroke {}: jump {jump}", c.stroke);
-            }
-        }
-    }
-    assert!(
-        smooth as f64 >= 0.95 * curves as f64,
-        "{smooth} of {curves} curves G2 throughout"
+        curves > 0 && smooth_curves as f64 >= 0.95 * curves as f64,
+        "{smooth_curves} of {curves} curves G2 throughout"
     );
 }

@@ -96,12 +96,6 @@ fn removable(kind: JointKind) -> bool {
 /// default tolerance 30 merges as many runs as 100 (730 segments), 10 six fewer, 5 nine fewer.
 const REFINED_MERGE_FACTOR: f64 = 30.0;
 
-/// An angle brought into (−π, π].
-fn wrap_to_pi(a: f64) -> f64 {
-    let (sin, cos) = a.sin_cos();
-    sin.atan2(cos)
-}
-
 /// Steps in which [`Fitter::soften_ends`] turns an end tangent towards the chord: the first that
 /// removes the tight curl is kept, so the tangent moves no farther than it must, to a quarter of
 /// the turn.
@@ -1032,14 +1026,9 @@ impl<'a> Fitter<'a> {
                 if let Ok(found) = found
                     && (!sparse || found.max <= self.tolerance)
                 {
-                    let (alpha, search) = (found.alpha, found.search);
+                    let search = found.search;
                     let mut trial = state.clone();
-                    trial.joints.remove(j);
-                    trial.alphas.splice(j - 1..=j, [alpha]);
-                    trial.samples.splice(j - 1..=j, [union]);
-                    if let Some((segment, deviation)) = found.fit {
-                        trial.remember(j - 1, segment, deviation, self.chord_error);
-                    }
+                    self.replace_run(&mut trial, j - 1..j + 1, union, found.alpha, found.fit);
                     if matches!(trial.evaluate(j - 1, self.chord_error), Ok(e) if e.max <= self.tolerance)
                     {
                         *state = trial;
@@ -1084,6 +1073,32 @@ impl<'a> Fitter<'a> {
             ),
         );
         (union, found)
+    }
+
+    /// Replaces segments `run` of `state` by one segment between the run's outer joints, holding
+    /// `union` (their samples) with α `alpha`; `fit` is that segment and its samples' distances
+    /// when the α search ran on the samples (remembered, not built and measured again).
+    fn replace_run(
+        &self,
+        state: &mut State<'a>,
+        run: std::ops::Range<usize>,
+        union: Vec<usize>,
+        alpha: f64,
+        fit: Option<(LacSegment, Deviation)>,
+    ) {
+        state.joints.drain(run.start + 1..run.end);
+        state.alphas.splice(run.clone(), [alpha]);
+        state.samples.splice(run.clone(), [union]);
+        if let Some((segment, deviation)) = fit {
+            state.remember(run.start, segment, deviation, self.chord_error);
+        }
+    }
+
+    /// Whether every segment of `state` holds its samples within the tolerance.
+    fn holds(&self, state: &State) -> bool {
+        (0..state.len()).all(
+            |k| matches!(state.evaluate(k, self.chord_error), Ok(e) if e.max <= self.tolerance),
+        )
     }
 
     /// Merges runs of segments into single segments so that the chain has the fewest segments
@@ -1168,17 +1183,12 @@ impl<'a> Fitter<'a> {
             let (_, _, i, merged) = best[j].clone();
             if let Some((alpha, search, segment, deviation)) = merged {
                 let union: Vec<usize> = trial.samples[i..j].iter().flatten().copied().collect();
-                trial.joints.drain(i + 1..j);
-                trial.alphas.splice(i..j, [alpha]);
-                trial.samples.splice(i..j, [union]);
+                self.replace_run(&mut trial, i..j, union, alpha, Some((segment, deviation)));
                 trial_searches.splice(i..j, [search]);
-                trial.remember(i, segment, deviation, self.chord_error);
             }
             j = i;
         }
-        let holds = (0..trial.len()).all(
-            |k| matches!(trial.evaluate(k, self.chord_error), Ok(e) if e.max <= self.tolerance),
-        );
+        let holds = self.holds(&trial);
         if holds {
             *state = trial;
             *searches = trial_searches;
@@ -1224,22 +1234,14 @@ impl<'a> Fitter<'a> {
                 continue;
             }
             let mut trial = state.clone();
-            trial.joints.drain(i + 1..j);
-            trial.alphas.splice(i..j, [found.alpha]);
-            trial.samples.splice(i..j, [union]);
-            if let Some((segment, deviation)) = found.fit {
-                trial.remember(i, segment, deviation, self.chord_error);
-            }
+            self.replace_run(&mut trial, i..j, union, found.alpha, found.fit);
             let off_curve = |p: Point, u: f64| self.pieces.project_local(p, u).distance;
             // Only the merged segment moves (the runs around it end at fixed joints).
             let active: Vec<bool> = (0..trial.len()).map(|k| k == i).collect();
             if refine(&mut trial, options, Some(&active), &off_curve).is_none() {
                 continue;
             }
-            let holds = (0..trial.len()).all(
-                |k| matches!(trial.evaluate(k, self.chord_error), Ok(e) if e.max <= self.tolerance),
-            );
-            if holds {
+            if self.holds(&trial) {
                 *state = trial;
                 searches.splice(i..j, [found.search]);
                 merged = true;
@@ -1285,13 +1287,16 @@ impl<'a> Fitter<'a> {
             let chord = b.p - a.p;
             let chord_angle = chord.y.atan2(chord.x);
             let from = state.joints[j].angle;
-            let turn = wrap_to_pi(chord_angle - from);
+            let turn = crate::geom::wrap_angle(chord_angle - from);
             let points: Vec<Point> = state.points_of(k);
             for step in 1..=SOFTEN_STEPS {
-                let angle = from + turn * step as f64 / SOFTEN_STEPS as f64;
-                let mut trial = state.clone();
-                trial.joints[j].angle = angle;
-                let (ta, tb) = (trial.joints[k], trial.joints[k + 1]);
+                let mut turned = state.joints[j];
+                turned.angle = from + turn * step as f64 / SOFTEN_STEPS as f64;
+                let (ta, tb) = if at_start {
+                    (turned, state.joints[k + 1])
+                } else {
+                    (state.joints[k], turned)
+                };
                 let Ok(fit) = fit_span(
                     ta.p,
                     ta.tangent(),
@@ -1308,14 +1313,18 @@ impl<'a> Fitter<'a> {
                 if fit.deviation.max > self.tolerance || !within(&fit.segment, cap) {
                     continue;
                 }
-                trial.alphas[k] = fit.segment.alpha().unwrap_or(self.options.alpha.middle());
-                trial.remember(k, fit.segment, fit.deviation, self.chord_error);
-                if matches!(trial.evaluate(k, self.chord_error), Ok(e) if e.max <= self.tolerance) {
-                    *state = trial;
+                // Only segment k uses this end joint: set it, and keep it if the state's own
+                // measure of the segment agrees (it takes the search's, remembered).
+                let kept = (state.joints[j], state.alphas[k]);
+                state.joints[j] = turned;
+                state.alphas[k] = fit.segment.alpha().unwrap_or(self.options.alpha.middle());
+                state.remember(k, fit.segment, fit.deviation, self.chord_error);
+                if matches!(state.evaluate(k, self.chord_error), Ok(e) if e.max <= self.tolerance) {
                     searches[k] = fit.search;
                     changed = true;
                     break;
                 }
+                (state.joints[j], state.alphas[k]) = kept;
             }
         }
         changed

@@ -1089,7 +1089,9 @@ fn start_layout(
     let mut theta = segs[0].theta0();
     for (k, seg) in segs.iter().enumerate() {
         if k > 0 {
-            theta += wrap_angle(seg.theta0() - segs[k - 1].theta1());
+            // The G1 chain's segments keep their own angles in (−π, π]; a smooth chain's run
+            // on continuously.
+            theta += crate::geom::wrap_angle(seg.theta0() - segs[k - 1].theta1());
         }
         pose.push((seg.start(), theta));
         theta += seg.theta1() - seg.theta0();
@@ -1658,13 +1660,6 @@ fn levenberg_marquardt(
     Some(())
 }
 
-/// An angle difference brought into (−π, π] (the G1 chain's segments keep their own angles in
-/// (−π, π]; a smooth chain's run on continuously).
-fn wrap_angle(a: f64) -> f64 {
-    let (s, c) = a.sin_cos();
-    s.atan2(c)
-}
-
 /// The constrained fit from `x` (shooting form, see [`Form`]), then the answer laid out forward
 /// so that the joints meet exactly; the forward chain's evaluation, or `None` where no chain
 /// meeting the constraints could be built. `x` keeps the shooting solution (the next cut starts
@@ -1683,16 +1678,7 @@ fn solve(
             // (a tangent gap of 1.5 rad where no α ≤ 0 turns a segment ending at an inflection
             // as far as the G1 one did): the chain laid out forward from its start meets them by
             // construction and leaves only its end point to move. Its poses start the fit.
-            let mut forward = x.clone();
-            forward.theta0 = forward.pose[0].1;
-            let segments = project(
-                Form::Forward,
-                solver,
-                layout,
-                &mut forward,
-                &c3_joints,
-                None,
-            )?;
+            let (mut forward, segments) = laid_forward(solver, layout, x, &c3_joints)?;
             forward.pose = segments.iter().map(|s| (s.start(), s.theta0())).collect();
             *x = forward;
             segments
@@ -1703,17 +1689,22 @@ fn solve(
         e = solver.evaluate(e.segments.clone(), assign, None);
     }
     levenberg_marquardt(solver, layout, x, assign, &mut e)?;
+    let (_, segments) = laid_forward(solver, layout, x, &c3_joints)?;
+    Some(solver.evaluate(segments, assign, None))
+}
+
+/// The chain of `x` laid out forward from its first pose, its end point brought onto the
+/// target by [`project`]: the unknowns there and the chain; `None` where the projection fails.
+fn laid_forward(
+    solver: &Solver,
+    layout: &Layout,
+    x: &Params,
+    c3_joints: &[usize],
+) -> Option<(Params, Vec<LacSegment>)> {
     let mut forward = x.clone();
     forward.theta0 = forward.pose[0].1;
-    let segments = project(
-        Form::Forward,
-        solver,
-        layout,
-        &mut forward,
-        &c3_joints,
-        None,
-    )?;
-    Some(solver.evaluate(segments, assign, None))
+    let segments = project(Form::Forward, solver, layout, &mut forward, c3_joints, None)?;
+    Some((forward, segments))
 }
 
 /// The chain record of a solved smooth chain.
