@@ -20,6 +20,7 @@
 
 pub mod alpha_evidence;
 mod band;
+mod band_lu;
 mod fit;
 mod refine;
 pub mod smooth;

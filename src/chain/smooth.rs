@@ -28,7 +28,9 @@
 //! The unknowns minimise Σ rᵢ², rᵢ the signed distance from sample i to its segment, subject to
 //! the constraints and, for C3, to dκ/ds⁻ = dκ/ds⁺ at every interior joint with κ ≠ 0. Each step
 //! solves the damped Gauss–Newton system with the linearised constraints (a KKT system,
-//! Marquardt's scaling; an unknown on its bound that the step would push beyond it is held) and
+//! Marquardt's scaling with a floor, Nielsen's damping update; an unknown on its bound that the
+//! step would push beyond it is held; ordered along the chain, the system is banded and solved in
+//! time linear in the segments) and
 //! is projected back onto the constraints by least-norm Newton steps, so every iterate is a
 //! chain that meets them. The Jacobian: a change of one unknown rebuilds its one or two
 //! segments, differenced at the samples' foot points. Samples near a joint are handed to the
@@ -74,6 +76,7 @@
 //! a part has more than [`MAX_SEGMENTS`] segments, or a chain cannot be built at all, the part
 //! keeps its G1 segments and the chain says [`Continuity::G1`].
 
+use super::band_lu::BandMatrix;
 use super::fit::{Chain, ChainInput, ChainSegment, JointKind, nearest_deviation, tile_ranges};
 use crate::bspline::project::Pieces;
 use crate::geom::{Point, Vec2};
@@ -163,10 +166,10 @@ pub const MAX_RADIUS_EXTENTS: f64 = 1e6;
 pub const MAX_LENGTH_FACTOR: f64 = 10.0;
 
 /// Most segments of a chain the smooth fit solves (beyond, the G1 chain is kept). Its KKT
-/// system is solved dense: about nine rows per segment (six unknowns, three joint equations),
-/// so 40 segments are a 360-row LU per trial step, a few milliseconds; at 100 segments one
-/// solve took seconds (a scribble's 90-segment curves: two minutes for the file). A banded
-/// solve (the system is block-tridiagonal in the segments) will lift this.
+/// system (about nine rows per segment: six unknowns, three joint equations) is solved in band
+/// order ([`band_order`], a bandwidth of about fifteen whatever the length), so its cost grows
+/// linearly with the segments; the limit bounds the cut rounds' work on a part the smooth fit
+/// cannot hold.
 pub const MAX_SEGMENTS: usize = 40;
 
 /// Rounds of cuts in a row that do not bring the worst sample nearer before the smooth fit of
@@ -200,18 +203,24 @@ const DIFFERENCE_STEP: f64 = 1e-6;
 /// Marquardt's damping starts at this multiple of the normal matrix's diagonal.
 const INITIAL_DAMPING: f64 = 1e-3;
 
-/// Damping is multiplied by this after a refused step and divided by [`DAMPING_DECREASE`] after
-/// an accepted one.
-const DAMPING_INCREASE: f64 = 4.0;
-/// See [`DAMPING_INCREASE`].
-const DAMPING_DECREASE: f64 = 3.0;
+/// Damping after a refused step is multiplied by a factor that starts at this and doubles with
+/// each refusal in a row; after an accepted step it is scaled by max(1/3, 1 − (2ρ − 1)³), ρ the
+/// ratio of the actual to the predicted decrease (Nielsen's rule): a step that did what the
+/// model said lowers it, one that barely helped keeps it. A fixed ×4 / ÷3 made the fit alternate
+/// refused and accepted steps (each refusal a projection onto the constraints).
+const DAMPING_GROWTH: f64 = 2.0;
+
 /// Beyond this damping the step is too short to matter: the solve has converged or is stuck.
 const MAX_DAMPING: f64 = 1e8;
 
 /// A diagonal entry of the normal matrix below this fraction of the largest is raised to it
-/// before damping: an unknown the samples do not see (α of a near arc) is then held by the
-/// damping instead of making the system singular.
-const DIAGONAL_FLOOR: f64 = 1e-9;
+/// before damping: an unknown the samples barely see (α of a near arc, the curvature at a
+/// joint of a near line) is then held by the damping instead of moving freely inside the
+/// constraints' null space, where its steps are as long as the linearisation allows and their
+/// projections fail. Scanned over the fixture strokes in g2: 1e-9 left 260 of 263 curves G2 with
+/// 1 019 segments in 5.5 s; 1e-5 … 1e-3 give 261 with 915–932 segments in 3.3–4.2 s (fewer
+/// cuts); 1e-2 and above hold the unknowns too tightly (260 curves).
+const DIAGONAL_FLOOR: f64 = 1e-4;
 
 /// Newton steps projecting a point onto the constraints. From the starting chain (the G1
 /// chain with one curvature per joint) the steps converge linearly, a factor of 3 to 20 per
@@ -1362,12 +1371,77 @@ fn reassign(solver: &Solver, segments: &[LacSegment], assign: &mut [Vec<usize>])
     changed
 }
 
-/// The residuals of an evaluation as one vector, segment after segment.
-fn residual_vector(e: &Evaluation) -> DVector<f64> {
-    DVector::from_iterator(
-        e.residuals.iter().map(Vec::len).sum(),
-        e.residuals.iter().flatten().copied(),
-    )
+/// The normal equations JᵀJ and Jᵀr of the residuals of `e` with Jacobian `jr` (rows segment
+/// after segment): segment k's rows are nonzero only in the columns `reaching[k]`, so each row
+/// adds its few products instead of a dense product over every column.
+fn normal_equations(
+    jr: &DMatrix<f64>,
+    e: &Evaluation,
+    reaching: &[Vec<usize>],
+) -> (DMatrix<f64>, DVector<f64>) {
+    let m = jr.ncols();
+    let mut a = DMatrix::zeros(m, m);
+    let mut g = DVector::zeros(m);
+    let mut row = 0;
+    for (residuals, columns) in e.residuals.iter().zip(reaching) {
+        for &r in residuals {
+            for &j in columns {
+                let v = jr[(row, j)];
+                if v == 0.0 {
+                    continue;
+                }
+                g[j] += v * r;
+                for &i in columns {
+                    a[(i, j)] += jr[(row, i)] * v;
+                }
+            }
+            row += 1;
+        }
+    }
+    (a, g)
+}
+
+/// Where each row of the KKT system (the unknowns `vars`, then the `nc` constraints in the order
+/// of [`Solver::constraints`] in the shooting form) goes so that the system is banded: along the
+/// chain, a joint's curvature, its position and tangent equations (and C3's), the pose of the
+/// segment it starts, that segment's length and α; the end point's equations last. A segment's
+/// residuals and a joint's equations then involve rows of two neighbouring segments only, a
+/// bandwidth of about fifteen whatever the chain's length.
+fn band_order(layout: &Layout, vars: &[Var], nc: usize, c3_joints: &[usize]) -> Vec<usize> {
+    let n = layout.n();
+    let m = vars.len();
+    let joint_rows = 3 * n.saturating_sub(1);
+    let mut keys: Vec<(f64, usize)> = vars
+        .iter()
+        .enumerate()
+        .map(|(i, &var)| {
+            let key = match var {
+                Var::Theta0 => -1.0,
+                Var::Joint(j) => j as f64 - 0.2,
+                Var::X(k) | Var::Y(k) | Var::Angle(k) => k as f64,
+                Var::Length(k) | Var::Alpha(k) => k as f64 + 0.5,
+            };
+            (key, i)
+        })
+        .collect();
+    keys.extend((0..nc).map(|r| {
+        let key = if r < 2 {
+            n as f64
+        } else if r < 2 + joint_rows {
+            (1 + (r - 2) / 3) as f64 - 0.1
+        } else {
+            c3_joints
+                .get(r - 2 - joint_rows)
+                .map_or(n as f64, |&j| j as f64 - 0.1)
+        };
+        (key, m + r)
+    }));
+    keys.sort_by(|p, q| p.0.total_cmp(&q.0).then(p.1.cmp(&q.1)));
+    let mut position = vec![0; m + nc];
+    for (p, &(_, i)) in keys.iter().enumerate() {
+        position[i] = p;
+    }
+    position
 }
 
 /// The constraints' Jacobian in the forward form at its chain `segments`: a change of one
@@ -1531,13 +1605,27 @@ fn project(
                 Some(jc) => Some((jc * jc.transpose()).cholesky()?),
                 None => None,
             };
-            for _ in 0..=steps {
+            let mut previous: Option<f64> = None;
+            for step in 0..=steps {
                 layout.clamp(x, solver.log_kappa);
                 let segments = layout.build_form(form, x, solver.start).ok()?;
                 let c = solver.constraints(form, &segments, x, c3_joints);
                 if solver.constraints_met(form, n, &c) {
                     return Some(segments);
                 }
+                // The chord steps converge linearly: at the rate seen so far, would the steps
+                // left reach the constraints? If not, stop now (fresh Jacobians take over)
+                // rather than after every step.
+                let size = c.amax();
+                if fixed.is_some()
+                    && let Some(before) = previous
+                {
+                    let rate = size / before;
+                    if !(rate < 1.0 && size * rate.powf((steps - step) as f64) <= END_TOLERANCE) {
+                        return None;
+                    }
+                }
+                previous = Some(size);
                 let step = match (fixed, &gram_fixed) {
                     (Some(jc), Some(gram)) => -(jc.transpose() * gram.solve(&c)),
                     _ => {
@@ -1586,14 +1674,24 @@ fn levenberg_marquardt(
     let vars = layout.shooting_vars();
     let c3_joints = layout.c3_joints();
     let m = vars.len();
+    // The unknowns that reach each segment: its residuals' only nonzero columns.
+    let reaching: Vec<Vec<usize>> = (0..layout.n())
+        .map(|k| {
+            (0..m)
+                .filter(|&i| {
+                    let (k0, k1) = layout.shooting_reach(vars[i]);
+                    (k0..=k1).contains(&k)
+                })
+                .collect()
+        })
+        .collect();
     let mut lambda = INITIAL_DAMPING;
+    let mut growth = DAMPING_GROWTH;
     for _ in 0..MAX_ITERATIONS {
         let (jr, jc) = shooting_jacobian(solver, layout, x, e, &vars, &c3_joints)?;
-        let r = residual_vector(e);
         let c = solver.constraints(Form::Shooting, &e.segments, x, &c3_joints);
         let nc = c.len();
-        let mut a = jr.transpose() * &jr;
-        let mut g = jr.transpose() * &r;
+        let (mut a, mut g) = normal_equations(&jr, e, &reaching);
         let floor = DIAGONAL_FLOOR * a.diagonal().max().max(f64::MIN_POSITIVE);
         // An unknown on its bound that the descent direction pushes beyond it is held there
         // (an active set): clamped after the step instead, it bends every step the model
@@ -1608,23 +1706,55 @@ fn levenberg_marquardt(
                 jc.column_mut(i).fill(0.0);
             }
         }
+        // The KKT system [A + λD, Jcᵀ; Jc, 0] in the band order, as its nonzero entries.
+        let position = band_order(layout, &vars, nc, &c3_joints);
+        let mut entries = Vec::new();
+        for j in 0..m {
+            for i in 0..m {
+                if a[(i, j)] != 0.0 || i == j {
+                    entries.push((position[i], position[j], a[(i, j)]));
+                }
+            }
+            for r in 0..nc {
+                if jc[(r, j)] != 0.0 {
+                    entries.push((position[m + r], position[j], jc[(r, j)]));
+                    entries.push((position[j], position[m + r], jc[(r, j)]));
+                }
+            }
+        }
+        let (lower, upper) = entries.iter().fold((0, 0), |(l, u), &(i, j, _)| {
+            (l.max(i.saturating_sub(j)), u.max(j.saturating_sub(i)))
+        });
+        let mut rhs = vec![0.0; m + nc];
+        for i in 0..m {
+            rhs[position[i]] = -g[i];
+        }
+        for r in 0..nc {
+            rhs[position[m + r]] = -c[r];
+        }
         let mut accepted = None;
         while lambda <= MAX_DAMPING {
-            let mut kkt = DMatrix::zeros(m + nc, m + nc);
-            kkt.view_mut((0, 0), (m, m)).copy_from(&a);
-            for i in 0..m {
-                kkt[(i, i)] += lambda * a[(i, i)].max(floor);
+            let mut kkt = BandMatrix::zeros(m + nc, lower, upper);
+            for &(i, j, v) in &entries {
+                kkt.add(i, j, v);
             }
-            kkt.view_mut((m, 0), (nc, m)).copy_from(&jc);
-            kkt.view_mut((0, m), (m, nc)).copy_from(&jc.transpose());
-            let mut rhs = DVector::zeros(m + nc);
-            rhs.rows_mut(0, m).copy_from(&(-&g));
-            rhs.rows_mut(m, nc).copy_from(&(-&c));
-            let Some(step) = kkt.lu().solve(&rhs) else {
-                lambda *= DAMPING_INCREASE;
+            for i in 0..m {
+                kkt.add(position[i], position[i], lambda * a[(i, i)].max(floor));
+            }
+            let Some(solution) = kkt.solve(&rhs) else {
+                lambda *= growth;
+                growth *= 2.0;
                 continue;
             };
-            let mut trial = moved(x, &vars, &step.rows(0, m).into_owned());
+            let delta = DVector::from_iterator(m, (0..m).map(|i| solution[position[i]]));
+            // The decrease of Σr² the Gauss–Newton model predicts for this step. Below the
+            // stopping fraction the step could not continue the solve even if it were
+            // accepted: converged (or damped to a standstill), without spending a projection.
+            let predicted = -(2.0 * g.dot(&delta) + delta.dot(&(&a * &delta)));
+            if !(predicted > RELATIVE_DECREASE * e.cost) {
+                break;
+            }
+            let mut trial = moved(x, &vars, &delta);
             let Some(segments) = project(
                 Form::Shooting,
                 solver,
@@ -1633,16 +1763,20 @@ fn levenberg_marquardt(
                 &c3_joints,
                 Some(&jc),
             ) else {
-                lambda *= DAMPING_INCREASE;
+                lambda *= growth;
+                growth *= 2.0;
                 continue;
             };
             let t = solver.evaluate(segments, assign, Some((e, assign)));
             if t.cost < e.cost {
+                let rho = ((e.cost - t.cost) / predicted).min(1.0);
+                lambda *= (1.0 - (2.0 * rho - 1.0).powi(3)).max(1.0 / 3.0);
+                growth = DAMPING_GROWTH;
                 accepted = Some((trial, t));
-                lambda /= DAMPING_DECREASE;
                 break;
             }
-            lambda *= DAMPING_INCREASE;
+            lambda *= growth;
+            growth *= 2.0;
         }
         let Some((trial, t)) = accepted else {
             break;
