@@ -76,6 +76,7 @@
 //! a part has more than [`MAX_SEGMENTS`] segments, or a chain cannot be built at all, the part
 //! keeps its G1 segments and the chain says [`Continuity::G1`].
 
+use super::band::{Band, BandCholesky};
 use super::band_lu::BandMatrix;
 use super::fit::{Chain, ChainInput, ChainSegment, JointKind, nearest_deviation, tile_ranges};
 use crate::bspline::project::Pieces;
@@ -1424,18 +1425,7 @@ fn band_order(layout: &Layout, vars: &[Var], nc: usize, c3_joints: &[usize]) -> 
             (key, i)
         })
         .collect();
-    keys.extend((0..nc).map(|r| {
-        let key = if r < 2 {
-            n as f64
-        } else if r < 2 + joint_rows {
-            (1 + (r - 2) / 3) as f64 - 0.1
-        } else {
-            c3_joints
-                .get(r - 2 - joint_rows)
-                .map_or(n as f64, |&j| j as f64 - 0.1)
-        };
-        (key, m + r)
-    }));
+    keys.extend((0..nc).map(|r| (constraint_key(r, n, joint_rows, c3_joints), m + r)));
     keys.sort_by(|p, q| p.0.total_cmp(&q.0).then(p.1.cmp(&q.1)));
     let mut position = vec![0; m + nc];
     for (p, &(_, i)) in keys.iter().enumerate() {
@@ -1599,10 +1589,11 @@ fn project(
 ) -> Option<Vec<LacSegment>> {
     let vars = layout.vars_of(form);
     let n = layout.n();
+    let rows = constraint_order(form, n, solver.c3, c3_joints);
     let newton =
         |x: &mut Params, fixed: Option<&DMatrix<f64>>, steps: usize| -> Option<Vec<LacSegment>> {
-            let gram_fixed = match fixed {
-                Some(jc) => Some((jc * jc.transpose()).cholesky()?),
+            let chord = match fixed {
+                Some(jc) => Some(LeastNorm::new(jc, &rows)?),
                 None => None,
             };
             let mut previous: Option<f64> = None;
@@ -1626,9 +1617,9 @@ fn project(
                     }
                 }
                 previous = Some(size);
-                let step = match (fixed, &gram_fixed) {
-                    (Some(jc), Some(gram)) => -(jc.transpose() * gram.solve(&c)),
-                    _ => {
+                let step = match &chord {
+                    Some(chord) => chord.step(&c)?,
+                    None => {
                         let mut jc = constraint_jacobian(
                             form, solver, layout, x, &segments, &vars, c3_joints,
                         )?;
@@ -1641,8 +1632,7 @@ fn project(
                                 jc.column_mut(i).fill(0.0);
                             }
                         }
-                        let gram = (&jc * jc.transpose()).cholesky()?;
-                        -(jc.transpose() * gram.solve(&c))
+                        LeastNorm::new(&jc, &rows)?.step(&c)?
                     }
                 };
                 *x = moved(x, &vars, &step);
@@ -1658,6 +1648,109 @@ fn project(
         return newton(x, None, TRIAL_PROJECTION_STEPS);
     }
     newton(x, None, PROJECTION_STEPS)
+}
+
+/// Where each constraint row of `form` goes in an order along the chain (see [`band_order`]).
+fn constraint_order(form: Form, n: usize, c3: bool, c3_joints: &[usize]) -> Vec<usize> {
+    let joint_rows = match form {
+        Form::Shooting => 3 * n.saturating_sub(1),
+        Form::Forward => 0,
+    };
+    let nc = 2 + joint_rows + if c3 { c3_joints.len() } else { 0 };
+    let mut keys: Vec<(f64, usize)> = (0..nc)
+        .map(|r| (constraint_key(r, n, joint_rows, c3_joints), r))
+        .collect();
+    keys.sort_by(|p, q| p.0.total_cmp(&q.0).then(p.1.cmp(&q.1)));
+    let mut position = vec![0; nc];
+    for (p, &(_, r)) in keys.iter().enumerate() {
+        position[r] = p;
+    }
+    position
+}
+
+/// A constraint row's place along the chain: the end point's after every joint, a joint's
+/// equations (position, tangent, C3) at the joint.
+fn constraint_key(r: usize, n: usize, joint_rows: usize, c3_joints: &[usize]) -> f64 {
+    if r < 2 {
+        n as f64
+    } else if r < 2 + joint_rows {
+        (1 + (r - 2) / 3) as f64 - 0.1
+    } else {
+        c3_joints
+            .get(r - 2 - joint_rows)
+            .map_or(n as f64, |&j| j as f64 - 0.1)
+    }
+}
+
+/// Least-norm steps −Jᵀ(JJᵀ)⁻¹c onto linearised constraints J·δ = −c, J factored once. Ordered
+/// along the chain ([`constraint_order`]), the Gram matrix JJᵀ is a band (two joints' equations
+/// share unknowns only where they are neighbours): it is assembled from each column's few
+/// nonzero rows and factored by [`Band`]'s Cholesky, where a dense product and factor cost
+/// O(rows²·unknowns).
+struct LeastNorm {
+    /// Per unknown: its nonzero rows (in the band order) and entries.
+    columns: Vec<Vec<(usize, f64)>>,
+    /// Each constraint row's place in the band order.
+    rows: Vec<usize>,
+    gram: BandCholesky,
+}
+
+impl LeastNorm {
+    /// `None` where JJᵀ is singular (a constraint no free unknown moves) or the sizes differ.
+    fn new(jc: &DMatrix<f64>, rows: &[usize]) -> Option<Self> {
+        let (nc, m) = jc.shape();
+        if rows.len() != nc {
+            return None;
+        }
+        let columns: Vec<Vec<(usize, f64)>> = (0..m)
+            .map(|j| {
+                (0..nc)
+                    .filter(|&r| jc[(r, j)] != 0.0)
+                    .map(|r| (rows[r], jc[(r, j)]))
+                    .collect()
+            })
+            .collect();
+        let width = columns
+            .iter()
+            .map(|col| {
+                let lo = col.iter().map(|&(p, _)| p).min().unwrap_or(0);
+                let hi = col.iter().map(|&(p, _)| p).max().unwrap_or(0);
+                hi - lo
+            })
+            .max()
+            .unwrap_or(0);
+        let mut gram = Band::zeros(nc, width);
+        for col in &columns {
+            for (a, &(p, u)) in col.iter().enumerate() {
+                for &(q, v) in &col[..=a] {
+                    gram.add(p, q, u * v);
+                }
+            }
+        }
+        Some(LeastNorm {
+            columns,
+            rows: rows.to_vec(),
+            gram: gram.factor()?,
+        })
+    }
+
+    /// The step for the constraint values `c`; `None` where its length differs.
+    fn step(&self, c: &DVector<f64>) -> Option<DVector<f64>> {
+        if c.len() != self.rows.len() {
+            return None;
+        }
+        let mut rhs = vec![0.0; c.len()];
+        for (r, &p) in self.rows.iter().enumerate() {
+            rhs[p] = c[r];
+        }
+        let y = self.gram.solve(&rhs);
+        Some(DVector::from_iterator(
+            self.columns.len(),
+            self.columns
+                .iter()
+                .map(|col| -col.iter().map(|&(p, v)| v * y[p]).sum::<f64>()),
+        ))
+    }
 }
 
 /// The Levenberg–Marquardt fit in the shooting form from `x` and its evaluation `e`, moving
