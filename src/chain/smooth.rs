@@ -788,6 +788,36 @@ pub(crate) fn smooth_chain(smooth: &SmoothInput) -> Option<Chain> {
     if cuts.len() == 1 && !all_smooth {
         return None;
     }
+    // The parts' ranges tiled as one piece: a segment holding no samples has the one-sample
+    // range of the last sample before it, also at the start of a part.
+    let starts: Vec<Option<usize>> = out.iter().map(|s| s.params.map(|_| s.samples.0)).collect();
+    for (s, range) in out
+        .iter_mut()
+        .zip(tile_ranges(&starts, smooth.input.samples))
+    {
+        s.samples = range;
+    }
+    // The whole chain's largest distance, each sample to its nearest segment: a part kept G1
+    // carries the whole G1 chain's figure, and a sample may lie nearer a neighbouring part.
+    let points = smooth.input.points;
+    let lists: Vec<Vec<usize>> = out
+        .iter()
+        .map(|s| {
+            (0..points.len())
+                .filter(|&i| (s.samples.0..=s.samples.1).contains(&smooth.input.indices[i]))
+                .collect()
+        })
+        .collect();
+    let own: Vec<Vec<f64>> = out
+        .iter()
+        .zip(&lists)
+        .map(|(s, list)| {
+            let pts: Vec<Point> = list.iter().map(|&i| points[i]).collect();
+            deviation(&s.segment, &pts, smooth.chord_error).distances
+        })
+        .collect();
+    let segments: Vec<LacSegment> = out.iter().map(|s| s.segment).collect();
+    let max_deviation = nearest_deviation(points, &segments, &lists, &own, smooth.chord_error);
     Some(Chain {
         segments: out,
         max_deviation,
@@ -827,11 +857,16 @@ fn smooth_part(smooth: &SmoothInput) -> Result<Chain, Missed> {
     let input = smooth.input;
     let chain = smooth.chain;
     let points = input.points;
-    // Each G1 segment's local samples (points whose original index lies in its range).
+    // Each G1 segment's local samples (points whose original index lies in its range); a
+    // segment holding none repeats the index of the last sample before it, which may be the
+    // previous part's.
     let mut assign: Vec<Vec<usize>> = chain
         .segments
         .iter()
         .map(|s| {
+            if s.params.is_none() {
+                return Vec::new();
+            }
             (0..points.len())
                 .filter(|&i| {
                     let o = input.indices[i];
@@ -1975,7 +2010,16 @@ fn finish(
         .iter()
         .map(|l| l.iter().map(|&i| input.indices[i]).min())
         .collect();
-    let ranges = tile_ranges(&starts, input.samples);
+    // The part's own sample range: a part between corners inside the piece must not reach
+    // its neighbours' samples.
+    let part = match (
+        smooth.chain.segments.iter().find(|s| s.params.is_some()),
+        smooth.chain.segments.last(),
+    ) {
+        (Some(first), Some(last)) => (first.samples.0, last.samples.1),
+        _ => input.samples,
+    };
+    let ranges = tile_ranges(&starts, part);
     let n = layout.n();
     let segments = (0..n)
         .map(|k| {
