@@ -28,7 +28,7 @@ fn run(case: &Case, options: &PipelineOptions) -> common::adversarial::Breaks {
 
 #[test]
 fn adversarial_strokes_fit_within_their_guarantee() {
-    every_case_within_the_guarantee(&PipelineOptions::default(), 0);
+    every_case_within_the_guarantee(&PipelineOptions::default(), 0, Some(2));
 }
 
 /// The same strokes with curvature-continuous chains: the smooth fit's parts between corners,
@@ -37,15 +37,22 @@ fn adversarial_strokes_fit_within_their_guarantee() {
 /// corner) reports 0.0182 px where the chain's largest distance is 0.0206 (tolerance 0.25):
 /// the distance evaluation of the combined chain falls short there by about the chord error.
 /// Before the parts were tiled as one piece and measured as one chain, 178 of the 600 broke.
+/// A smooth segment's α is the constrained fit's, not a search's (its record carries the G1
+/// segment's search it started from), so α searched is not asked here.
 #[test]
 fn adversarial_strokes_fit_within_their_guarantee_in_g2() {
     let mut options = PipelineOptions::default();
     options.chain.continuity = kansei::chain::Continuity::G2;
-    every_case_within_the_guarantee(&options, 1);
+    every_case_within_the_guarantee(&options, 1, None);
 }
 
-/// Every adversarial case through `options`: at most `known` broken strokes.
-fn every_case_within_the_guarantee(options: &PipelineOptions, known: usize) {
+/// Every adversarial case through `options`: at most `known` broken strokes, and with
+/// `searched`, at most that many strokes with an α no search chose.
+fn every_case_within_the_guarantee(
+    options: &PipelineOptions,
+    known: usize,
+    searched: Option<usize>,
+) {
     let all = cases(PER_CLASS, 0x6b61_6e73_6569);
     let mut failures = Vec::new();
     let (mut errors, mut guarantee, mut tiling, mut unsearched, mut misses) = (0, 0, 0, 0, 0);
@@ -97,10 +104,12 @@ fn every_case_within_the_guarantee(options: &PipelineOptions, known: usize) {
         failures.len(),
         all.len()
     );
-    assert!(
-        unsearched <= 2,
-        "{unsearched} strokes with an α no search chose"
-    );
+    if let Some(limit) = searched {
+        assert!(
+            unsearched <= limit,
+            "{unsearched} strokes with an α no search chose"
+        );
+    }
 }
 
 /// Prints one case (`ADV_CASE=<name>`, `ADV_G2` for g2): its points and what the pipeline made
