@@ -1580,7 +1580,12 @@ fn shooting_jacobian(
         .zip(&e.feet)
         .map(|(seg, feet)| crate::lac::deviation::points_at(seg, feet))
         .collect();
+    // Without C3 rows, a length's column follows from the joints' (below): no construction.
+    let scaled = |var: Var| matches!(var, Var::Length(_)) && !solver.c3;
     for (col, &var) in vars.iter().enumerate() {
+        if scaled(var) {
+            continue;
+        }
         let (k0, k1) = layout.shooting_reach(var);
         let mut xp = x.clone();
         set(&mut xp, var, get(x, var) + DIFFERENCE_STEP);
@@ -1606,7 +1611,48 @@ fn shooting_jacobian(
         jc.set_column(col, &((c1 - &c0) / DIFFERENCE_STEP));
         segments[k0..=k1].copy_from_slice(&e.segments[k0..=k1]);
     }
+    // Lengthening segment k by dv while both its end curvatures shrink by e^{−dv} scales it by
+    // e^{dv} about its start (a similarity keeps α): a point at a fixed fraction of the length
+    // moves by (P − Pₖ)·dv, the turning not at all. So ∂/∂v = (P − Pₖ) + Σ ∂/∂u over its
+    // non-zero end joints, whose columns hold segment k's own rows (its samples, its end's
+    // equations) apart from the other segment's.
+    let n = layout.n();
+    for (col, &var) in vars.iter().enumerate() {
+        let Var::Length(k) = var else { continue };
+        if !scaled(var) {
+            continue;
+        }
+        let joints: Vec<usize> = [k, k + 1]
+            .into_iter()
+            .filter_map(|j| vars.iter().position(|&v| v == Var::Joint(j)))
+            .collect();
+        let start = e.segments[k].start();
+        for (m, ((_, nrm), f)) in e.foot_points[k].iter().zip(&base[k]).enumerate() {
+            let row = offsets[k] + m;
+            jr[(row, col)] =
+                -nrm.dot(*f - start) + joints.iter().map(|&j| jr[(row, j)]).sum::<f64>();
+        }
+        let (rx, ry, angle) = end_rows(n, k);
+        let lever = (e.segments[k].end() - start) / solver.scale;
+        for (row, own) in [(rx, lever.x), (ry, lever.y)] {
+            jc[(row, col)] = own + joints.iter().map(|&j| jc[(row, j)]).sum::<f64>();
+        }
+        if let Some(row) = angle {
+            jc[(row, col)] = joints.iter().map(|&j| jc[(row, j)]).sum::<f64>();
+        }
+    }
     Some((jr, jc))
+}
+
+/// The rows of segment k's end in the shooting form's constraints ([`Solver::constraints`]):
+/// its position equations' two rows and, but for the last segment (whose end is the target
+/// point), its tangent equation's row.
+fn end_rows(n: usize, k: usize) -> (usize, usize, Option<usize>) {
+    if k + 1 == n {
+        (0, 1, None)
+    } else {
+        (2 + 3 * k, 3 + 3 * k, Some(4 + 3 * k))
+    }
 }
 
 /// The constraints' Jacobian alone at the chain `segments` of `x`.
