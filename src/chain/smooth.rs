@@ -168,7 +168,7 @@ pub const MAX_LENGTH_FACTOR: f64 = 10.0;
 
 /// Most segments of a chain the smooth fit solves (beyond, the G1 chain is kept). Its KKT
 /// system (about nine rows per segment: six unknowns, three joint equations) is solved in band
-/// order ([`band_order`], a bandwidth of about fifteen whatever the length), so its cost grows
+/// order (a bandwidth of about fifteen whatever the length), so its cost grows
 /// linearly with the segments; the limit bounds the cut rounds' work on a part the smooth fit
 /// cannot hold.
 pub const MAX_SEGMENTS: usize = 40;
