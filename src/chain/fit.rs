@@ -1516,21 +1516,29 @@ fn traced_distance(segment: &LacSegment, q: Point, chord_error: f64) -> f64 {
     } else {
         segment.length()
     };
-    let mut best = f64::INFINITY;
-    let mut previous: Option<Point> = None;
+    let mut best = (f64::INFINITY, 0.0);
+    let mut previous: Option<(Point, f64)> = None;
     for sample in segment.samples(spacing) {
-        let b = sample.point;
-        let a = previous.unwrap_or(b);
+        let (b, sb) = (sample.point, sample.s);
+        let (a, sa) = previous.unwrap_or((b, sb));
         let ab = b - a;
         let f = if ab.hypot2() > 0.0 {
             ((q - a).dot(ab) / ab.hypot2()).clamp(0.0, 1.0)
         } else {
             0.0
         };
-        best = best.min(q.distance(a + ab * f));
-        previous = Some(b);
+        let d = q.distance(a + ab * f);
+        if d < best.0 {
+            best = (d, sa + f * (sb - sa));
+        }
+        previous = Some((b, sb));
     }
-    best
+    // The trace lies within the chord error of the curve, so its distance can fall short of the
+    // curve's by that much: the foot is found on the curve from the trace's nearest point, a
+    // distance to a point of the curve, never below the true one (the trace's own where that
+    // search does not settle).
+    let (traced, at) = best;
+    crate::lac::deviation::deviation_near(segment, &[q], &[at]).map_or(traced, |d| d.max)
 }
 
 /// The largest distance from a sample to the chain (its nearest segment), given each
