@@ -1499,8 +1499,14 @@ fn band_order(layout: &Layout, vars: &[Var], nc: usize, c3_joints: &[usize]) -> 
         })
         .collect();
     keys.extend((0..nc).map(|r| (constraint_key(r, n, joint_rows, c3_joints), m + r)));
+    positions(keys)
+}
+
+/// Each index's place when `keys` (a key per index, `(key, index)`) are sorted by key, ties in
+/// index order.
+fn positions(mut keys: Vec<(f64, usize)>) -> Vec<usize> {
     keys.sort_by(|p, q| p.0.total_cmp(&q.0).then(p.1.cmp(&q.1)));
-    let mut position = vec![0; m + nc];
+    let mut position = vec![0; keys.len()];
     for (p, &(_, i)) in keys.iter().enumerate() {
         position[i] = p;
     }
@@ -1812,15 +1818,11 @@ fn constraint_order(form: Form, n: usize, c3: bool, c3_joints: &[usize]) -> Vec<
         Form::Forward => 0,
     };
     let nc = 2 + joint_rows + if c3 { c3_joints.len() } else { 0 };
-    let mut keys: Vec<(f64, usize)> = (0..nc)
-        .map(|r| (constraint_key(r, n, joint_rows, c3_joints), r))
-        .collect();
-    keys.sort_by(|p, q| p.0.total_cmp(&q.0).then(p.1.cmp(&q.1)));
-    let mut position = vec![0; nc];
-    for (p, &(_, r)) in keys.iter().enumerate() {
-        position[r] = p;
-    }
-    position
+    positions(
+        (0..nc)
+            .map(|r| (constraint_key(r, n, joint_rows, c3_joints), r))
+            .collect(),
+    )
 }
 
 /// A constraint row's place along the chain: the end point's after every joint, a joint's
@@ -1933,12 +1935,17 @@ fn levenberg_marquardt(
                 .collect()
         })
         .collect();
+    // The KKT system's band order: the layout, and so the rows, stay fixed through the solve.
+    let nc = constraint_order(Form::Shooting, layout.n(), solver.c3, &c3_joints).len();
+    let position = band_order(layout, &vars, nc, &c3_joints);
     let mut lambda = INITIAL_DAMPING;
     let mut growth = DAMPING_GROWTH;
     for _ in 0..MAX_ITERATIONS {
         let (jr, jc) = shooting_jacobian(solver, layout, x, e, &vars, &c3_joints)?;
         let c = solver.constraints(Form::Shooting, &e.segments, x, &c3_joints);
-        let nc = c.len();
+        if c.len() != nc {
+            return None;
+        }
         let (mut a, mut g) = normal_equations(&jr, e, &reaching);
         let floor = DIAGONAL_FLOOR * a.diagonal().max().max(f64::MIN_POSITIVE);
         // An unknown on its bound that the descent direction pushes beyond it is held there
@@ -1955,7 +1962,6 @@ fn levenberg_marquardt(
             }
         }
         // The KKT system [A + λD, Jcᵀ; Jc, 0] in the band order, as its nonzero entries.
-        let position = band_order(layout, &vars, nc, &c3_joints);
         let mut entries = Vec::new();
         for j in 0..m {
             for i in 0..m {
