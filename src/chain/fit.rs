@@ -1534,11 +1534,12 @@ fn traced_distance(segment: &LacSegment, q: Point, chord_error: f64) -> f64 {
         previous = Some((b, sb));
     }
     // The trace lies within the chord error of the curve, so its distance can fall short of the
-    // curve's by that much: the foot is found on the curve from the trace's nearest point, a
-    // distance to a point of the curve, never below the true one (the trace's own where that
-    // search does not settle).
-    let (traced, at) = best;
-    crate::lac::deviation::deviation_near(segment, &[q], &[at]).map_or(traced, |d| d.max)
+    // curve's by that much: the foot is found on the curve from the trace's nearest point (the
+    // curve's point there where that search does not settle), a distance to a point of the
+    // curve, never below the true one.
+    let at = best.1;
+    crate::lac::deviation::deviation_near(segment, &[q], &[at])
+        .map_or_else(|| q.distance(segment.point(at)), |d| d.max)
 }
 
 /// The largest distance from a sample to the chain (its nearest segment), given each

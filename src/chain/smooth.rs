@@ -823,18 +823,7 @@ pub(crate) fn smooth_chain(smooth: &SmoothInput) -> Option<Chain> {
         .zip(&lists)
         .map(|(s, list)| {
             let pts: Vec<Point> = list.iter().map(|&i| points[i]).collect();
-            let d = deviation(&s.segment, &pts, smooth.chord_error);
-            if d.foot_points.len() == pts.len() {
-                return d.distances;
-            }
-            // Some distances are the polyline's (its feet did not polish), up to the chord
-            // error short of the curve's: each is found on the curve from its foot.
-            pts.iter()
-                .zip(d.feet.iter().zip(&d.distances))
-                .map(|(q, (&foot, &distance))| {
-                    deviation_near(&s.segment, &[*q], &[foot]).map_or(distance, |e| e.max)
-                })
-                .collect()
+            deviation(&s.segment, &pts, smooth.chord_error).distances
         })
         .collect();
     let segments: Vec<LacSegment> = out.iter().map(|s| s.segment).collect();

@@ -237,7 +237,9 @@ fn polish_feet(
         let distance = q.distance(foot.p);
         // The exact distance differs from the polyline's by at most the chord error (the chords
         // cut inside the curve); anything farther means Newton wandered to another foot, and the
-        // polyline's answer is kept.
+        // polyline's foot is kept, measured to the curve's point there: the polyline's own
+        // distance can fall up to the chord error short of the curve's, a distance to a point of
+        // the curve never does.
         if distance <= d.distances[i] + chord_error {
             d.distances[i] = distance;
             d.feet[i] = foot.s;
@@ -245,6 +247,8 @@ fn polish_feet(
             if let Some(normal) = foot.normal {
                 exact.push((foot.p, normal));
             }
+        } else {
+            d.distances[i] = q.distance(start);
         }
     }
     d.foot_points = if exact.len() == samples.len() {
