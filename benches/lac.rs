@@ -31,15 +31,15 @@
 //!    The full pipeline ([`fit_stroke`] with [`PipelineOptions::default`], LAC chain included) is
 //!    *not* run under criterion: one pass over the 37 strokes takes about a minute on the
 //!    development machine, and criterion's minimum of 10 samples would take over ten. It is timed
-//!    per stroke by the summary (4).
+//!    per stroke by the summary (4). The default mode is G2 ([`kansei::chain::Continuity`]).
 //! 4. After the criterion groups, a per-stroke summary measured by its own timing loop (printed to
 //!    stderr): for each stroke, rounds of one run of each configuration (full pipeline, the same
-//!    with `continuity` g2, splits only, both kurbo variants; interleaved so all see the same
+//!    with `continuity` g1, splits only, both kurbo variants; interleaved so all see the same
 //!    machine state), the median over the rounds; then the median over strokes and the median
-//!    per-stroke ratios g2/full and kansei/kurbo; and, at twice each stroke's own tolerance
-//!    ([`LOOSE_FACTOR`]), the fit on the stroke's tolerance ladder (`fit_with_noise` with that
-//!    tolerance, what `kansei fit --tolerance` does) against one fresh fit there (`lad/fr`),
-//!    broken down by stroke size (≤ 600 samples, more). Strokes get at least 3 rounds unless
+//!    per-stroke ratios full/g1 (issue 17's cost of G2) and kansei/kurbo; and, at twice each
+//!    stroke's own tolerance ([`LOOSE_FACTOR`]), the fit on the stroke's tolerance ladder
+//!    (`fit_with_noise` with that tolerance, what `kansei fit --tolerance` does) against one
+//!    fresh fit there (`lad/fr`), broken down by stroke size (≤ 600 samples, more). Strokes get at least 3 rounds unless
 //!    they have already taken 2 s (the largest strokes take seconds per full-pipeline run and get
 //!    one or two: the table prints the count). Issue 18's target is the full pipeline's median
 //!    per stroke within 0.3 ms for strokes up to 600 samples; the summary prints whether the
@@ -241,7 +241,7 @@ fn bench_fit_g1(c: &mut Criterion) {
 #[derive(Clone, Copy)]
 enum Config {
     KanseiFull,
-    KanseiFullG2,
+    KanseiFullG1,
     KanseiSplitsOnly,
     KurboSimplify,
     KurboSmoothJoins,
@@ -252,7 +252,7 @@ enum Config {
 impl Config {
     const ALL: [Config; 7] = [
         Config::KanseiFull,
-        Config::KanseiFullG2,
+        Config::KanseiFullG1,
         Config::KanseiSplitsOnly,
         Config::KurboSimplify,
         Config::KurboSmoothJoins,
@@ -263,7 +263,7 @@ impl Config {
     fn name(self) -> &'static str {
         match self {
             Config::KanseiFull => "kansei_full",
-            Config::KanseiFullG2 => "kansei_full_g2",
+            Config::KanseiFullG1 => "kansei_full_g1",
             Config::KanseiSplitsOnly => "kansei_splits_only",
             Config::KurboSimplify => "kurbo_simplify",
             Config::KurboSmoothJoins => "kurbo_simplify_joins70",
@@ -288,10 +288,10 @@ impl Config {
                     .sum()
             })
             .unwrap_or(usize::MAX),
-            Config::KanseiFullG2 => {
-                let mut g2 = full.clone();
-                g2.chain.continuity = kansei::chain::Continuity::G2;
-                Config::KanseiFull.run(case, &g2, splits)
+            Config::KanseiFullG1 => {
+                let mut g1 = full.clone();
+                g1.chain.continuity = kansei::chain::Continuity::G1;
+                Config::KanseiFull.run(case, &g1, splits)
             }
             // Twice the stroke's own tolerance, as `kansei fit --tolerance` gives it: met on the
             // stroke's tolerance ladder (several fits, never more segments than a tighter
@@ -349,7 +349,7 @@ fn bench_pipeline(c: &mut Criterion, cases: &[Case]) {
             // One pass over the 37 strokes takes about a minute; criterion needs at least 10
             // samples plus warm-up, over 10 minutes. The summary below times it per stroke.
             Config::KanseiFull
-            | Config::KanseiFullG2
+            | Config::KanseiFullG1
             | Config::KanseiLoose
             | Config::KanseiLooseFresh => continue,
             // About 0.1 s per pass: 10 samples of one pass each.
@@ -442,10 +442,10 @@ fn summary(cases: &[Case]) {
         let outputs = Config::ALL.map(|c| c.run(case, &full, &splits));
         if let Some(k) = outputs.iter().position(|&n| n == usize::MAX) {
             // Report, don't time: an error path is not the pipeline's speed.
-            let mut g2 = full.clone();
-            g2.chain.continuity = kansei::chain::Continuity::G2;
+            let mut g1 = full.clone();
+            g1.chain.continuity = kansei::chain::Continuity::G1;
             let options = match k {
-                1 => &g2,
+                1 => &g1,
                 2 => &splits,
                 _ => &full,
             };
@@ -496,13 +496,14 @@ fn summary(cases: &[Case]) {
          round; tolerance = the default mode's (unit default raised to the noise floor)"
     );
     eprintln!(
-        "full = kansei PipelineOptions::default(); g2 = the same with continuity g2; splits = \
+        "full = kansei PipelineOptions::default() (continuity g2); g1 = the same with continuity \
+         g1; splits = \
          PipelineOptions::splits_only(); \
          kurbo = simplify_bezpath(polyline, tol, SimplifyOptions::default()); kurbo70 = same with \
          angle_thresh tan 70°"
     );
     eprintln!(
-        "outputs = LAC chain segments (g1 | g2) | spans | kurbo segments | kurbo70 segments (a \
+        "outputs = LAC chain segments (full | g1) | spans | kurbo segments | kurbo70 segments (a \
          polyline of n samples has n − 1 segments) | ladder | fresh at 2× own"
     );
     eprintln!(
@@ -511,8 +512,8 @@ fn summary(cases: &[Case]) {
         "samples",
         "rounds",
         "full ms",
-        "g2 ms",
-        "g2/full",
+        "g1 ms",
+        "full/g1",
         "ladder ms",
         "fresh ms",
         "lad/fr",
@@ -531,7 +532,7 @@ fn summary(cases: &[Case]) {
             r.rounds,
             ms(r.median[0]),
             ms(r.median[1]),
-            r.median[1] / r.median[0],
+            r.median[0] / r.median[1],
             ms(r.median[5]),
             ms(r.median[6]),
             r.median[5] / r.median[6],
@@ -566,8 +567,8 @@ fn summary(cases: &[Case]) {
         "strokes",
         "count",
         "full ms",
-        "g2 ms",
-        "g2/full",
+        "g1 ms",
+        "full/g1",
         "ladder ms",
         "fresh ms",
         "lad/fr",
@@ -606,7 +607,7 @@ fn summary(cases: &[Case]) {
             class.len(),
             ms(full_median),
             ms(col(&|r| r.median[1])),
-            col(&|r| r.median[1] / r.median[0]),
+            col(&|r| r.median[0] / r.median[1]),
             ms(col(&|r| r.median[5])),
             ms(col(&|r| r.median[6])),
             col(&|r| r.median[5] / r.median[6]),

@@ -141,7 +141,7 @@ pub struct FitSettings {
     pub alpha_range: Option<(f64, f64)>,
     /// Continuity at smooth joints: g1 (position and tangent), g2 (and curvature; a curve the
     /// smooth fit cannot hold within the tolerance stays g1) or c3 (and dκ/ds).
-    #[arg(long, default_value = "g1")]
+    #[arg(long, default_value = "g2")]
     pub continuity: crate::chain::Continuity,
 }
 

@@ -843,13 +843,16 @@ fn a_mouse_s_in_a_fresh_app_comes_back_as_a_handful_of_segments() {
     harness.step();
     let rect = harness.state().canvas().screen_rect().expect("the canvas");
     let centre = rect.center();
-    // Two arcs of radius 90 points turning opposite ways, 240 points tall in all.
+    // Two arcs of radius 90 points, three quarters of a turn each, turning opposite ways and
+    // meeting tangentially at the S's middle (screen y down): 360 points tall, drawn at 0.7.
     let point = |t: f32| {
-        let (r, a) = (90.0f32, std::f32::consts::PI * t);
+        let (r, turn) = (90.0f32, 1.5 * std::f32::consts::PI);
         let p = if t <= 1.0 {
-            Vec2::new(r * a.cos(), -r - r * a.sin())
+            let a = -turn * t;
+            Vec2::new(r * a.cos(), -r + r * a.sin())
         } else {
-            Vec2::new(r * (2.0 * std::f32::consts::PI - a).cos(), r + r * a.sin())
+            let b = -0.5 * std::f32::consts::PI + turn * (t - 1.0);
+            Vec2::new(r * b.cos(), r + r * b.sin())
         };
         let q = centre + p * 0.7;
         egui::pos2(q.x.round(), q.y.round())

@@ -53,7 +53,10 @@ fn millimetre_strokes_say_millimetres_and_read_back_within_the_accuracy() {
     let segment = common::lac::planted_segment(-1.0, 60.0, 0.2, 1.5);
     let stroke = common::lac::pen_stroke(&segment, 300, 0, 0.02, 7);
     let file = StrokeFile::new(Units::Mm, vec![stroke]);
-    let out = fit_file(&file, &PipelineOptions::default()).expect("fit");
+    // A G1 chain: its Bézier form, segment by segment (a G2 chain's C2 spline is the next test's).
+    let mut options = PipelineOptions::default();
+    options.chain.continuity = Continuity::G1;
+    let out = fit_file(&file, &options).expect("fit");
     for accuracy in [None, Some(0.001)] {
         let export = dxf_drawing(&out, &DxfOptions { accuracy });
         let expected = accuracy.unwrap_or(0.1 * out.tolerance);

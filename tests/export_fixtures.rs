@@ -64,6 +64,7 @@ struct Tally {
     paths: usize,
     pieces: usize,
     continued: usize,
+    c2_splines: usize,
 }
 
 impl Tally {
@@ -71,7 +72,7 @@ impl Tally {
         format!(
             "{} spiral segments, {} cubics ({:.2} per spiral segment, at most {} for one \
              segment), {} arcs, {} lines; {} paths of {} pieces ({} continuing the previous \
-             piece's subpath); largest measured error {:.3} × the accuracy",
+             piece's subpath); {} C2 splines; largest measured error {:.3} × the accuracy",
             self.spiral_segments,
             self.cubics,
             self.cubics as f64 / self.spiral_segments.max(1) as f64,
@@ -81,6 +82,7 @@ impl Tally {
             self.paths,
             self.pieces,
             self.continued,
+            self.c2_splines,
             self.worst_ratio
         )
     }
@@ -203,6 +205,50 @@ fn svg_paths_lie_within_the_accuracy_of_the_chain() {
     );
 }
 
+/// The two-sided distance between a chain and `pieces` drawn along all of it: each segment's
+/// projection grid to the nearest piece, and 24 points inside each piece to the nearest segment.
+fn chain_to_pieces_distance(chain: &[LacSegment], pieces: &[Piece]) -> f64 {
+    let grids: Vec<_> = chain.iter().map(common::export::grid_of).collect();
+    let steps: Vec<f64> = grids
+        .iter()
+        .map(|grid| grid.windows(2).map(|w| w[1].0 - w[0].0).fold(0.0, f64::max))
+        .collect();
+    let mut worst: f64 = 0.0;
+    for grid in &grids {
+        for (_, p) in grid {
+            let d = pieces
+                .iter()
+                .map(|x| x.distance(*p))
+                .fold(f64::INFINITY, f64::min);
+            worst = worst.max(d);
+        }
+    }
+    const INSIDE: usize = 24;
+    for piece in pieces {
+        for i in 0..=INSIDE + 1 {
+            let q = piece.eval(i as f64 / (INSIDE + 1) as f64);
+            // Projected onto every segment that can hold the nearest point: one whose nearest
+            // grid point is no farther than the nearest of all plus its grid's largest step
+            // (every point of a segment lies within a step of its grid).
+            let near: Vec<f64> = grids
+                .iter()
+                .map(|grid| {
+                    grid.iter()
+                        .map(|(_, p)| p.distance(q))
+                        .fold(f64::INFINITY, f64::min)
+                })
+                .collect();
+            let best = near.iter().copied().fold(f64::INFINITY, f64::min);
+            let d = (0..chain.len())
+                .filter(|&k| near[k] - steps[k] <= best)
+                .map(|k| common::export::project(&chain[k], &grids[k], q).1)
+                .fold(f64::INFINITY, f64::min);
+            worst = worst.max(d);
+        }
+    }
+    worst
+}
+
 /// The cubics of a clamped cubic B-spline whose interior knots all have multiplicity 3.
 fn bezier_form(knots: &[f64], points: &[kurbo::Point]) -> Vec<CubicBez> {
     assert_eq!(knots.len(), points.len() + 4);
@@ -272,6 +318,22 @@ fn dxf_splines_read_back_lie_within_the_accuracy_of_the_chain() {
                     kurbo::Point::new(p.x, p.y)
                 })
                 .collect();
+            if report.form == kansei::export::SplineForm::C2 {
+                // A smooth chain's C2 spline (simple knots): the whole spline against the whole
+                // chain, both ways.
+                let spline = kansei::bspline::BSpline::new(spline.knot_values.clone(), points)
+                    .expect("a valid spline");
+                let pieces: Vec<Piece> = spline
+                    .to_beziers()
+                    .iter()
+                    .map(|p| Piece::Cubic(p.bez))
+                    .collect();
+                let error = chain_to_pieces_distance(chain, &pieces);
+                assert!(error <= accuracy, "{name}: C2 spline {error} > {accuracy}");
+                tally.c2_splines += 1;
+                tally.worst_ratio = tally.worst_ratio.max(error / accuracy);
+                continue;
+            }
             let cubics = bezier_form(&spline.knot_values, &points);
             assert_eq!(cubics.len(), report.cubics.iter().sum::<usize>(), "{name}");
             let mut at = 0;
@@ -702,6 +764,10 @@ fn a_piece_fitted_to_its_own_tolerance_says_so_and_validates() {
     assert_eq!(CurveFile::from_json(&doc.to_json()).expect("reads"), doc);
 }
 
+/// Smallest window, as a fraction of the segment's length, over which the joint test below
+/// differences a curvature: below it the step nears the rounding of the arc length.
+const FD_MIN_SCALE: f64 = 1e-6;
+
 /// The joint records measure the written segments: one more joint than segments, each smooth
 /// joint's curvatures and dκ/ds those of the segments it joins (dκ/ds checked against central
 /// differences of the record's own curvature), the jumps recomputed from them, the end kinds
@@ -730,8 +796,13 @@ fn joint_records_measure_the_continuity_of_the_written_segments() {
             );
             for (i, w) in c.segments.windows(2).enumerate() {
                 let j = &c.joints[i + 1];
-                assert_eq!(j.kind, JointContinuity::Smooth);
                 assert_eq!(j.point, w[1].start);
+                // A smooth chain turns a joint the samples bend through tighter than it may
+                // (a hook) into a corner inside the piece: no curvature to compare there.
+                if j.kind == JointContinuity::Corner {
+                    continue;
+                }
+                assert_eq!(j.kind, JointContinuity::Smooth);
                 assert_eq!(j.kappa, [Some(w[0].kappa1), Some(w[1].kappa0)]);
                 assert_eq!(j.curvature_jump, relative_jump(w[0].kappa1, w[1].kappa0));
                 jumps.push(j.curvature_jump.unwrap_or(0.0));
@@ -748,6 +819,14 @@ fn joint_records_measure_the_continuity_of_the_written_segments() {
                 ] {
                     let Some(got) = got else { continue };
                     let scale = seg.length().min((seg.kappa(s) / got).abs());
+                    // At an inflection (κ = 0, α < 0) dκ/ds ∝ |κ|^(1+α) is the closed form's
+                    // limit (0, constant or unbounded as α is above, at or below −1), which no
+                    // difference approaches at a useful rate; nor one where the curvature changes
+                    // by its whole size within a millionth of the segment (α < −1 near κ = 0: a
+                    // G2 joint pressed onto the curvature's lower bound).
+                    if seg.kappa(s) == 0.0 || scale < FD_MIN_SCALE * seg.length() {
+                        continue;
+                    }
                     let h = sign * 1e-4 * scale;
                     let k = |i: f64| seg.kappa(s + i * h);
                     let fd = (-3.0 * k(0.0) + 4.0 * k(1.0) - k(2.0)) / (2.0 * h);

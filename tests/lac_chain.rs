@@ -132,10 +132,12 @@ fn a_compound_rhythm_curve_needs_at_most_three_segments() {
 
 #[test]
 fn every_fixture_chain_is_g1_and_within_tolerance() {
+    let mut options = PipelineOptions::default();
+    options.chain.continuity = kansei::chain::Continuity::G1;
     for name in fixture_names() {
         let file = fixture(&name);
         let tol = file.units.default_tolerance();
-        let out = fit_file(&file, &PipelineOptions::default()).expect("fit");
+        let out = fit_file(&file, &options).expect("fit");
         for fit in &out.curves {
             let chain = chain_of(fit);
             assert!(

@@ -95,6 +95,8 @@ fn fit_equals_kansei_fit_on_every_fixture() {
                 "50",
                 "--keep-hooks",
                 "--lcg",
+                "--continuity",
+                "g1",
             ][..],
         )])
         .chain([(

@@ -120,7 +120,7 @@ pub struct ChainOptions {
     pub refine: bool,
     /// Iteration budget of each refinement. Default 30.
     pub refine_iterations: usize,
-    /// Continuity at the smooth joints. Default [`Continuity::G1`]. With G2 or C3 the G1
+    /// Continuity at the smooth joints. Default [`Continuity::G2`]. With G2 or C3 the G1
     /// chain is refitted with one curvature per joint (see [`super::smooth`]); where that
     /// cannot hold the tolerance the G1 chain is kept.
     pub continuity: Continuity,
@@ -134,7 +134,7 @@ impl Default for ChainOptions {
             merge: true,
             refine: true,
             refine_iterations: 30,
-            continuity: Continuity::G1,
+            continuity: Continuity::G2,
         }
     }
 }

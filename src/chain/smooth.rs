@@ -9,17 +9,22 @@
 //! one number κₖ₊₁, so G2 holds exactly, not to a tolerance. Where the segments sit is said in
 //! one of two ways:
 //!
-//! * *forward*: the chain is laid out from its start point P₀ (fixed: the piece's start, a
-//!   corner shared with the previous piece or the stroke's first point) and start angle θ₀,
+//! * *forward*: the chain is laid out from its start point P₀ and start angle θ₀,
 //!   each segment from the end pose of the one before. Position and tangent continuity hold by
 //!   construction too; the only position constraint left is the end point Pₑ. There are
 //!   1 + (n + 1) + 2n unknowns, one per interior joint fewer than a G1 chain's, as G2 requires.
 //!   But every joint turns the rest of the chain: a parameter near the start swings the end,
 //!   and the fit crawls (a 200 px spring drifted 30 px from its samples).
-//! * *shooting*: every segment has its own start pose (Pₖ, θₖ; P₀ fixed), and the joints'
-//!   positions and tangents are equality constraints (three per joint, two for Pₑ). A parameter
-//!   moves one segment, two for a joint's curvature: as well conditioned on fifty segments as on
-//!   two.
+//! * *shooting*: every segment has its own start pose (Pₖ, θₖ), and the joints' positions and
+//!   tangents are equality constraints (three per joint, two for Pₑ). A parameter moves one
+//!   segment, two for a joint's curvature: as well conditioned on fifty segments as on two.
+//!
+//! P₀ and Pₑ are fixed where they are corners (shared with the neighbouring piece or part). At
+//! the stroke's own start and end each moves across its tangent by one unknown: the B-spline's
+//! end that the G1 chain starts from carries the first sample's noise (on a whole-pixel grid up
+//! to half a pixel's diagonal off the curve drawn), and pinned there a smooth chain, with one
+//! unknown per joint fewer than a G1 one, pays for it along its whole first segment. Along the
+//! tangent an end would slide beyond the last sample at no cost, so it does not move that way.
 //!
 //! The fit runs in the shooting form; its answer is then moved into the forward form by a few
 //! Newton steps on the end point, so that joints meet exactly in the final chain.
@@ -31,16 +36,24 @@
 //! Marquardt's scaling with a floor, Nielsen's damping update; an unknown on its bound that the
 //! step would push beyond it is held; ordered along the chain, the system is banded and solved in
 //! time linear in the segments) and is projected back onto the constraints by least-norm
-//! Newton steps, so every iterate is a chain whose joints meet to a tenth of the tolerance (the
-//! answer's joints meet exactly once it is laid out forward). The Jacobian: a change of one unknown rebuilds its one or two
-//! segments, differenced at the samples' foot points. Samples near a joint are handed to the
+//! Newton steps with the step's own constraint Jacobian (a chord method; a trial they do not
+//! bring onto the constraints is refused like one that raises the cost), so every iterate is a
+//! chain whose joints meet to a tenth of the tolerance (the answer's joints meet exactly once it
+//! is laid out forward). The Jacobian: a change of one unknown rebuilds its one or two
+//! segments, differenced at the samples' foot points (a length's column follows from the
+//! curvatures' by a scaling identity). Samples near a joint are handed to the
 //! neighbour that is nearer after every accepted step: a joint slides along the data as the fit
 //! moves it.
 //!
 //! Starting point: the G1 chain (its joints' poses, lengths and α). A joint's curvature starts
 //! at the B-spline's there (the G1 chain's two sides differ, the C2 B-spline within the
 //! tolerance of the same samples has one value), each α at the one that keeps the G1 segment's
-//! turning. Where the fit cannot start from there (the first projection onto the constraints
+//! turning. A G1 segment that bends into a joint the smooth chain holds at κ = 0 (an arc into an
+//! inflection) keeps its shape but for a transition spiral at that end, as long as a clothoid
+//! whose shift from the arc is the tolerance. Where the first fit ends with an α pressed on its
+//! bound while the G1 chain's α lies inside, the fit from the G1 α is run as well and the lower
+//! cost kept (a local minimum: a planted S of two clothoids on a pixel grid came back as four
+//! segments at α = −3). Where the fit cannot start from there (the first projection onto the constraints
 //! fails: 16 parts of the fixture strokes) or does not end within the tolerance, it is run
 //! again with each joint's curvature at the geometric mean of the G1 chain's two sides. Where the
 //! joint equations cannot be met from the G1 chain's poses, the chain is laid out forward from its
@@ -68,8 +81,11 @@
 //! there than a smooth chain may make (on the fixture strokes, 18 such corners made 16 more
 //! curves G2 throughout). And where a part fails whose first (last) segment leaves its corner
 //! bending beyond the bound (a hook at a corner, κ = 12 /px on painting strokes), that segment's
-//! other joint becomes a corner and it stays as the G1 chain has it. When the solved chain leaves a sample farther than the tolerance
-//! from its nearest segment, every segment that misses is cut at its middle (a new joint with
+//! other joint becomes a corner and it stays as the G1 chain has it. A least-squares chain that
+//! misses the tolerance by a little is first refitted towards the minimax fit of the same
+//! segments (Lawson's reweighting, a few rounds). When the solved chain still leaves a
+//! sample farther than the tolerance from its nearest segment, every segment that misses is cut
+//! at its middle (a new joint with
 //! that point's curvature: the two halves are the same curve, so the chain stays on its
 //! constraints) and the fit runs again, at most [`MAX_CUT_ROUNDS`] rounds and until
 //! [`STALLED_ROUNDS`] rounds in a row bring the worst sample no nearer. When that is not enough,
@@ -90,11 +106,11 @@ use serde::{Deserialize, Serialize};
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(rename_all = "lowercase")]
 pub enum Continuity {
-    /// Position and tangent (the seed paper's chains; the default while the smooth fit does
-    /// not yet hold every real stroke's tolerance).
-    #[default]
+    /// Position and tangent (the seed paper's chains).
     G1,
-    /// Position, tangent and curvature.
+    /// Position, tangent and curvature: the default (a curve the smooth fit cannot hold within
+    /// its tolerance stays G1 and says so).
+    #[default]
     G2,
     /// Position, tangent, curvature and its arc-length derivative dκ/ds: a continuous
     /// logarithmic curvature graph across the joint (compound rhythm).
@@ -241,13 +257,31 @@ const PROJECTION_STEPS: usize = 30;
 
 /// Chord steps projecting a Levenberg–Marquardt trial back onto the constraints (see
 /// [`project`]): a trial a damped step away from the constraints converges in two or three; one
-/// that does not within this many is refused like a step that raises the cost. On the fixture strokes: 6 gave 140 of 254 curves G2 in 14 s, 12 gives 149 in
-/// 16 s, 30 gave 150 in 28 s.
+/// that does not within this many is refused like a step that raises the cost. On the nine
+/// recorded fixture files, 6 gave 915 segments in 0.88 s, 12 gives 896 in 0.78 s.
 const TRIAL_PROJECTION_STEPS: usize = 12;
 
+/// Rounds of Lawson's reweighting (see [`minimax`]) a least-squares chain whose largest distance
+/// misses the tolerance by at most [`MINIMAX_REACH`] gets before its segments are cut: the
+/// samples of a whole-pixel grid lie up to half a pixel's diagonal from the true curve, right at
+/// the noise floor's tolerance, and the least-squares fit of the true segments can miss it by a
+/// little where a minimax fit of the same segments holds it.
+const MINIMAX_ROUNDS: usize = 4;
+
+/// Largest miss, in tolerances, that [`MINIMAX_ROUNDS`] try to recover: Lawson's iteration
+/// lowers the largest distance by at most the gap between the least-squares and the minimax
+/// fits, a few tens of percent.
+const MINIMAX_REACH: f64 = 1.5;
+
+/// Least factor (relative to the largest distance) by which a round of [`minimax`] multiplies a
+/// sample's weight: a sample on the curve keeps a say in the next round instead of dropping
+/// out for good.
+const LAWSON_FLOOR: f64 = 0.05;
+
 /// The joints of a chain in the shooting form (the fit's start and every Levenberg–Marquardt
-/// trial) are met to this fraction of the tolerance, not exactly: the next step's linearised constraints carry the
-/// gaps left (the KKT system's right-hand side), and the fit's answer is laid out forward,
+/// trial) are met to this fraction of the tolerance, not exactly: the next step's linearised
+/// constraints carry the gaps left (the KKT system's right-hand side), and the fit's answer is
+/// laid out forward,
 /// joints meeting by construction and the end point to [`END_TOLERANCE`], before any distance
 /// is reported. Exact trials took a Newton step per factor of 3 or so from a step's violation
 /// (1e-3 … 1e-1 of the extent) down to 1e-10, most of the smooth fit's time. On the fixture
@@ -292,6 +326,14 @@ struct Params {
     v: Vec<f64>,
     /// α of each segment (unused where not free).
     alpha: Vec<f64>,
+    /// The point the chain's end must meet: fixed at a corner, moved by [`Var::EndShift`] at the
+    /// stroke's own end (see [`Layout::free_end`]).
+    end: Point,
+    /// The G1 chain's start and end points and the normals there, along which
+    /// [`Var::StartShift`] and [`Var::EndShift`] move them.
+    anchors: [(Point, Vec2); 2],
+    /// The shifts of the start and the end along those normals.
+    shift: [f64; 2],
 }
 
 /// One free unknown.
@@ -305,6 +347,11 @@ enum Var {
     Joint(usize),
     Length(usize),
     Alpha(usize),
+    /// The chain's start point across its tangent where it is free (see [`Layout::free_start`]):
+    /// along the tangent it would slide beyond the first sample at no cost.
+    StartShift,
+    /// The chain's end point across its tangent where it is free.
+    EndShift,
 }
 
 /// The chain's structure: which joints are zero, their signs, which α are free and within what.
@@ -342,10 +389,35 @@ impl Layout {
         self.alpha_bounds.len()
     }
 
-    /// The forward form's unknowns: the start angle, then [`Layout::shape_vars`].
+    /// Whether the chain's start point is an unknown: at the stroke's own start, where the
+    /// B-spline's end carries the first sample's noise (a whole-pixel grid puts it up to half a
+    /// pixel's diagonal from the curve drawn). A corner is shared with the neighbouring part and
+    /// stays.
+    fn free_start(&self) -> bool {
+        self.kinds.first() == Some(&JointKind::Start)
+    }
+
+    /// Whether the chain's end point is an unknown (as [`Layout::free_start`]).
+    fn free_end(&self) -> bool {
+        self.end_kind == JointKind::End
+    }
+
+    /// The end point's unknown where it is free.
+    fn end_vars(&self) -> Vec<Var> {
+        if self.free_end() {
+            vec![Var::EndShift]
+        } else {
+            Vec::new()
+        }
+    }
+
+    /// The forward form's unknowns: the start angle, then [`Layout::shape_vars`], then the free
+    /// end point's (the forward form lays the chain out from the start pose of the shooting
+    /// form's first segment).
     fn vars(&self) -> Vec<Var> {
         let mut vars = vec![Var::Theta0];
         vars.extend(self.shape_vars());
+        vars.extend(self.end_vars());
         vars
     }
 
@@ -370,8 +442,12 @@ impl Layout {
     /// The shooting form's unknowns.
     fn shooting_vars(&self) -> Vec<Var> {
         let mut vars: Vec<Var> = (0..self.n()).map(Var::Angle).collect();
+        if self.free_start() {
+            vars.push(Var::StartShift);
+        }
         vars.extend((1..self.n()).flat_map(|k| [Var::X(k), Var::Y(k)]));
         vars.extend(self.shape_vars());
+        vars.extend(self.end_vars());
         vars
     }
 
@@ -389,22 +465,20 @@ impl Layout {
             .collect()
     }
 
-    fn build_form(
-        &self,
-        form: Form,
-        x: &Params,
-        start: Point,
-    ) -> Result<Vec<LacSegment>, LacError> {
+    fn build_form(&self, form: Form, x: &Params) -> Result<Vec<LacSegment>, LacError> {
         match form {
             Form::Shooting => self.build_shooting(x),
-            Form::Forward => self.build(x, start),
+            Form::Forward => self.build(x, x.pose[0].0),
         }
     }
 
-    /// The segments a change of `var` reshapes in the shooting form.
+    /// The segments a change of `var` reshapes in the shooting form (none, `(1, 0)`, for the
+    /// end point).
     fn shooting_reach(&self, var: Var) -> (usize, usize) {
         match var {
             Var::Theta0 => (0, 0),
+            Var::EndShift => (1, 0),
+            Var::StartShift => (0, 0),
             Var::X(k) | Var::Y(k) | Var::Angle(k) | Var::Length(k) | Var::Alpha(k) => (k, k),
             Var::Joint(j) => (j.saturating_sub(1), j.min(self.n() - 1)),
         }
@@ -468,6 +542,8 @@ impl Layout {
     fn reach(&self, var: Var) -> (usize, usize) {
         match var {
             Var::Theta0 => (0, self.n() - 1),
+            Var::EndShift => (1, 0),
+            Var::StartShift => (0, self.n() - 1),
             Var::Joint(j) => (j.saturating_sub(1), j.min(self.n() - 1)),
             Var::Length(k) | Var::Alpha(k) | Var::X(k) | Var::Y(k) | Var::Angle(k) => (k, k),
         }
@@ -517,6 +593,8 @@ fn get(x: &Params, var: Var) -> f64 {
         Var::Joint(j) => x.u[j],
         Var::Length(k) => x.v[k],
         Var::Alpha(k) => x.alpha[k],
+        Var::StartShift => x.shift[0],
+        Var::EndShift => x.shift[1],
     }
 }
 
@@ -529,6 +607,14 @@ fn set(x: &mut Params, var: Var, value: f64) {
         Var::Joint(j) => x.u[j] = value,
         Var::Length(k) => x.v[k] = value,
         Var::Alpha(k) => x.alpha[k] = value,
+        Var::StartShift => {
+            x.shift[0] = value;
+            x.pose[0].0 = x.anchors[0].0 + x.anchors[0].1 * value;
+        }
+        Var::EndShift => {
+            x.shift[1] = value;
+            x.end = x.anchors[1].0 + x.anchors[1].1 * value;
+        }
     }
 }
 
@@ -558,7 +644,6 @@ struct Evaluation {
 struct Solver<'a> {
     points: &'a [Point],
     start: Point,
-    end: Point,
     scale: f64,
     chord_error: f64,
     /// Bounds of the joints' log-curvature magnitudes (see [`MIN_RADIUS_TOLERANCES`],
@@ -568,11 +653,19 @@ struct Solver<'a> {
     /// How much looser than exact ([`END_TOLERANCE`], [`C3_TOLERANCE`]) a trial step's
     /// projection need meet the constraints (see [`TRIAL_GAP_TOLERANCES`]).
     trial_slack: f64,
+    /// Per sample, the weight of its squared distance in the fit's cost (empty: all 1; see
+    /// [`MINIMAX_ROUNDS`]).
+    weights: Vec<f64>,
 }
 
 impl Solver<'_> {
     fn points_of(&self, list: &[usize]) -> Vec<Point> {
         list.iter().map(|&i| self.points[i]).collect()
+    }
+
+    /// The weight of sample `i`'s squared distance.
+    fn weight(&self, i: usize) -> f64 {
+        self.weights.get(i).copied().unwrap_or(1.0)
     }
 
     /// Distances of the assigned samples to `segments`, seeded at `near`'s feet where its
@@ -634,7 +727,11 @@ impl Solver<'_> {
                     }
                 })
                 .collect();
-            e.cost += residuals.iter().map(|r| r * r).sum::<f64>();
+            e.cost += residuals
+                .iter()
+                .zip(list)
+                .map(|(r, &i)| self.weight(i) * r * r)
+                .sum::<f64>();
             e.residuals.push(residuals);
             e.feet.push(d.feet);
             e.foot_points.push(foot_points);
@@ -655,8 +752,8 @@ impl Solver<'_> {
     ) -> DVector<f64> {
         let mut c = Vec::with_capacity(2 + 3 * segments.len() + c3_joints.len());
         let end = segments.last().map_or(self.start, |s| s.end());
-        c.push((end.x - self.end.x) / self.scale);
-        c.push((end.y - self.end.y) / self.scale);
+        c.push((end.x - x.end.x) / self.scale);
+        c.push((end.y - x.end.y) / self.scale);
         if form == Form::Shooting {
             for k in 1..segments.len() {
                 let (p, theta) = x.pose[k];
@@ -941,10 +1038,9 @@ fn smooth_from(
         .iter()
         .map(|p| p.distance(start))
         .fold(start.distance(end), f64::max);
-    let solver = Solver {
+    let mut solver = Solver {
         points,
         start,
-        end,
         scale: extent.max(smooth.tolerance),
         chord_error: smooth.chord_error,
         log_kappa: (min_log_kappa, max_log_kappa),
@@ -952,20 +1048,51 @@ fn smooth_from(
         trial_slack: (TRIAL_GAP_TOLERANCES * smooth.tolerance / extent.max(smooth.tolerance))
             .max(END_TOLERANCE)
             / END_TOLERANCE,
+        weights: Vec::new(),
     };
     layout.clamp(&mut x, solver.log_kappa);
     let (mut best_worst, mut stalled) = (f64::INFINITY, 0);
-    for _ in 0..=MAX_CUT_ROUNDS {
+    for round in 0..=MAX_CUT_ROUNDS {
         if layout.n() > MAX_SEGMENTS {
             return Err(Missed::Other);
         }
-        let evaluation = solve(&solver, &layout, &mut x, &mut assign).ok_or(Missed::Other)?;
-        let own: Vec<Vec<f64>> = evaluation
-            .residuals
-            .iter()
-            .map(|r| r.iter().map(|v| v.abs()).collect())
-            .collect();
+        let started = (round == 0).then(|| (x.clone(), assign.clone()));
+        let mut evaluation = solve(&solver, &layout, &mut x, &mut assign).ok_or(Missed::Other)?;
+        // The starting α match the G1 chain's turning (see [`start_layout`]); where the fit
+        // ended with such an α pressed on its bound while the G1 chain's own α lies inside,
+        // it may sit in a local minimum that the G1 α avoids (a planted S of two clothoids on a
+        // pixel grid: α −3 against the planted −1, a third more cost): the fit from the G1 α
+        // is tried too and the lower cost kept.
+        if let Some((mut other, mut other_assign)) = started
+            && let Some(g1_alpha) = g1_alpha_start(&layout, &x, &other, &chain.segments)
+        {
+            other.alpha = g1_alpha;
+            if let Some(e) = solve(&solver, &layout, &mut other, &mut other_assign)
+                && e.cost < evaluation.cost
+            {
+                (evaluation, x, assign) = (e, other, other_assign);
+            }
+        }
+        let own = distances(&evaluation);
         let (worst, _) = worst_sample(&own);
+        // A near miss is first fitted for its largest distance rather than cut (see
+        // [`MINIMAX_ROUNDS`]).
+        let minimax = (worst > smooth.tolerance && worst <= MINIMAX_REACH * smooth.tolerance)
+            .then(|| minimax(&mut solver, &layout, &x, &assign, smooth.tolerance))
+            .flatten();
+        if let Some((evaluation, assign)) = &minimax {
+            let own = distances(evaluation);
+            let nearest = nearest_deviation(
+                points,
+                &evaluation.segments,
+                assign,
+                &own,
+                smooth.chord_error,
+            );
+            if nearest <= smooth.tolerance {
+                return Ok(finish(smooth, &layout, evaluation, assign, nearest));
+            }
+        }
         if worst <= smooth.tolerance {
             let nearest = nearest_deviation(
                 points,
@@ -1049,6 +1176,97 @@ fn on_bound(layout: &Layout, x: &Params, g1: &[ChainSegment], max_log_kappa: f64
         }
     }
     best.map_or(Missed::Other, |(_, j)| Missed::Bound(j))
+}
+
+/// The α of a second start (see [`smooth_from`]): each segment's G1 α where it lies inside the
+/// segment's α bounds, the first start's elsewhere; `None` unless some segment of the fitted
+/// `x` ended with its α on a bound while its G1 α lies inside.
+fn g1_alpha_start(
+    layout: &Layout,
+    x: &Params,
+    first: &Params,
+    g1: &[ChainSegment],
+) -> Option<Vec<f64>> {
+    let mut alpha = first.alpha.clone();
+    let mut stuck = false;
+    for k in 0..layout.n() {
+        let (Some((lo, hi)), Some(a)) = (
+            layout.alpha_bounds[k],
+            g1.get(layout.origin[k]).and_then(|s| s.segment.alpha()),
+        ) else {
+            continue;
+        };
+        if a > lo + BOUND_SLACK && a < hi - BOUND_SLACK {
+            stuck |= x.alpha[k] <= lo + BOUND_SLACK || x.alpha[k] >= hi - BOUND_SLACK;
+            alpha[k] = a;
+        }
+    }
+    stuck.then_some(alpha)
+}
+
+/// Each segment's samples' distances (unsigned) in an evaluation.
+fn distances(e: &Evaluation) -> Vec<Vec<f64>> {
+    e.residuals
+        .iter()
+        .map(|r| r.iter().map(|v| v.abs()).collect())
+        .collect()
+}
+
+/// The least-squares chain of `layout` at `x` refitted for its largest distance (Lawson's
+/// iteration): each round multiplies every sample's weight by its distance (relative to the
+/// largest, at least [`LAWSON_FLOOR`]) and solves again from the last answer, which moves the
+/// chain towards the minimax fit of the same segments. The first round whose largest distance
+/// is within `tolerance` is returned with its assignment; `None` if none is within
+/// [`MINIMAX_ROUNDS`]. The solver's weights are left uniform.
+fn minimax(
+    solver: &mut Solver,
+    layout: &Layout,
+    x: &Params,
+    assign: &[Vec<usize>],
+    tolerance: f64,
+) -> Option<(Evaluation, Vec<Vec<usize>>)> {
+    let (mut x, mut assign) = (x.clone(), assign.to_vec());
+    solver.weights = vec![1.0; solver.points.len()];
+    let mut found = None;
+    let mut e = solver.evaluate(layout.build_shooting(&x).ok()?, &assign, None);
+    for _ in 0..MINIMAX_ROUNDS {
+        let worst = e
+            .residuals
+            .iter()
+            .flatten()
+            .fold(0.0_f64, |m, r| m.max(r.abs()));
+        if !(worst > 0.0) {
+            break;
+        }
+        for (residuals, list) in e.residuals.iter().zip(&assign) {
+            for (r, &i) in residuals.iter().zip(list) {
+                solver.weights[i] *= (r.abs() / worst).max(LAWSON_FLOOR);
+            }
+        }
+        let total: f64 = solver.weights.iter().sum();
+        let mean = total / solver.weights.len() as f64;
+        if !(mean > 0.0 && mean.is_finite()) {
+            break;
+        }
+        for w in &mut solver.weights {
+            *w /= mean;
+        }
+        let Some(next) = solve(solver, layout, &mut x, &mut assign) else {
+            break;
+        };
+        let largest = next
+            .residuals
+            .iter()
+            .flatten()
+            .fold(0.0_f64, |m, r| m.max(r.abs()));
+        if largest <= tolerance {
+            found = Some((next, assign));
+            break;
+        }
+        e = next;
+    }
+    solver.weights = Vec::new();
+    found
 }
 
 /// The largest own distance and the segment holding it.
@@ -1175,6 +1393,12 @@ fn start_layout(
         u,
         v: segs.iter().map(|s| s.length().ln()).collect(),
         alpha: segs.iter().map(|s| s.alpha().unwrap_or(-1.0)).collect(),
+        end: segs[n - 1].end(),
+        anchors: [
+            (segs[0].start(), normal(segs[0].theta0())),
+            (segs[n - 1].end(), normal(segs[n - 1].theta1())),
+        ],
+        shift: [0.0; 2],
     };
     for k in 0..n {
         layout.alpha_bounds.push(None);
@@ -1184,6 +1408,55 @@ fn start_layout(
             let target = segs[k].theta1() - segs[k].theta0();
             x.alpha[k] = alpha_for_turning(&layout, &x, k, target, bounds);
         }
+    }
+    // A segment that bends to the end where the smooth chain asks κ = 0 of it (an arc into an
+    // inflection or a line) keeps its G1 shape but for a transition spiral at that end, as
+    // long as a clothoid leaving the arc drifts from it by the tolerance: a G1 arc swept to zero
+    // curvature over its whole length starts the fit far from the samples (half a pixel's
+    // tolerance, an S of two 270° arcs drawn with a mouse: 17 px off, 12 segments after the
+    // cuts; with the transitions 4).
+    let mut k = 0;
+    while k < layout.n() {
+        let Some(seg) = segs.get(layout.origin[k]).copied() else {
+            k += 1;
+            continue;
+        };
+        let (zero_a, zero_b) = (layout.sigma[k] == 0.0, layout.sigma[k + 1] == 0.0);
+        let bend = match (zero_a, zero_b) {
+            (true, false) => seg.kappa0().abs(),
+            (false, true) => seg.kappa1().abs(),
+            _ => 0.0,
+        };
+        let transition = (TRANSITION_SHIFT * smooth.tolerance / bend).sqrt();
+        if !(bend > 0.0 && transition < TRANSITION_SHARE * seg.length()) {
+            k += 1;
+            continue;
+        }
+        let at = if zero_a {
+            transition
+        } else {
+            seg.length() - transition
+        };
+        let feet: Vec<f64> = {
+            let pts: Vec<Point> = assign[k].iter().map(|&i| smooth.input.points[i]).collect();
+            deviation(&seg, &pts, smooth.chord_error).feet
+        };
+        let pose = (seg.point(at), x.pose[k].1 + seg.theta(at) - seg.theta0());
+        let kappa = seg.kappa(at);
+        if kappa == 0.0 || !kappa.is_finite() {
+            k += 1;
+            continue;
+        }
+        split_at(&mut layout, &mut x, assign, k, (kappa, pose), at, &feet);
+        // The part away from the zero joint keeps the G1 segment's α (any α: both its ends
+        // curve); the transition starts as a clothoid.
+        let (far, near) = if zero_a { (k + 1, k) } else { (k, k + 1) };
+        x.alpha[far] = seg.alpha().unwrap_or(-1.0);
+        x.alpha[near] = -1.0;
+        for m in [k, k + 1] {
+            set_alpha_bounds(smooth.alpha, &mut layout, &mut x, m)?;
+        }
+        k += 2;
     }
     // A curved segment between two zero joints is cut at its middle (it could only be a line).
     let mut k = 0;
@@ -1217,6 +1490,15 @@ fn start_layout(
     }
     Some((layout, x))
 }
+
+/// A transition spiral of the starting chain (see [`start_layout`]) is as long as a clothoid
+/// from the arc's curvature κ to zero whose shift from the arc, κL²/24, is the tolerance:
+/// L = √(24·tolerance/κ).
+const TRANSITION_SHIFT: f64 = 24.0;
+
+/// A segment gets a transition at its zero end only where the transition is shorter than this
+/// share of it (a shorter segment is a spiral to zero already, or nearly).
+const TRANSITION_SHARE: f64 = 0.5;
 
 /// Grid of α values over a segment's bounds on which [`alpha_for_turning`] looks for the
 /// turning closest to its target before bisecting: the turning is monotone in α between the
@@ -1437,18 +1719,21 @@ fn reassign(solver: &Solver, segments: &[LacSegment], assign: &mut [Vec<usize>])
 /// after segment): segment k's rows are nonzero only in the columns `reaching[k]`, so each row
 /// adds its few products instead of a dense product over every column.
 fn normal_equations(
+    solver: &Solver,
     jr: &DMatrix<f64>,
     e: &Evaluation,
+    assign: &[Vec<usize>],
     reaching: &[Vec<usize>],
 ) -> (DMatrix<f64>, DVector<f64>) {
     let m = jr.ncols();
     let mut a = DMatrix::zeros(m, m);
     let mut g = DVector::zeros(m);
     let mut row = 0;
-    for (residuals, columns) in e.residuals.iter().zip(reaching) {
-        for &r in residuals {
+    for ((residuals, columns), list) in e.residuals.iter().zip(reaching).zip(assign) {
+        for (&r, &sample) in residuals.iter().zip(list) {
+            let w = solver.weight(sample);
             for &j in columns {
-                let v = jr[(row, j)];
+                let v = w * jr[(row, j)];
                 if v == 0.0 {
                     continue;
                 }
@@ -1479,6 +1764,8 @@ fn band_order(layout: &Layout, vars: &[Var], nc: usize, c3_joints: &[usize]) -> 
         .map(|(i, &var)| {
             let key = match var {
                 Var::Theta0 => -1.0,
+                Var::StartShift => 0.0,
+                Var::EndShift => n as f64,
                 Var::Joint(j) => j as f64 - 0.2,
                 Var::X(k) | Var::Y(k) | Var::Angle(k) => k as f64,
                 Var::Length(k) | Var::Alpha(k) => k as f64 + 0.5,
@@ -1520,7 +1807,13 @@ fn forward_constraint_jacobian(
     let end = segments[n - 1].end();
     for (col, &var) in vars.iter().enumerate() {
         if var == Var::Theta0 {
-            let d = perp(end - solver.start) / solver.scale;
+            let d = perp(end - x.pose[0].0) / solver.scale;
+            jc[(0, col)] = d.x;
+            jc[(1, col)] = d.y;
+            continue;
+        }
+        if var == Var::EndShift {
+            let d = x.anchors[1].1 / -solver.scale;
             jc[(0, col)] = d.x;
             jc[(1, col)] = d.y;
             continue;
@@ -1604,6 +1897,7 @@ fn shooting_jacobian(
                 Var::X(j) | Var::Y(j) | Var::Angle(j) if j == k => {
                     e.segments[k].placed(xp.pose[k].0, xp.pose[k].1)
                 }
+                Var::StartShift => e.segments[k].placed(xp.pose[k].0, xp.pose[k].1),
                 _ => layout.segment(&xp, k, xp.pose[k].0, xp.pose[k].1).ok()?,
             };
             let ratio = seg.length() / e.segments[k].length();
@@ -1740,7 +2034,7 @@ fn project(
         let mut kept: Option<LeastNorm> = None;
         for step in 0..=steps {
             layout.clamp(x, solver.log_kappa);
-            let segments = layout.build_form(form, x, solver.start).ok()?;
+            let segments = layout.build_form(form, x).ok()?;
             let c = solver.constraints(form, &segments, x, c3_joints);
             if solver.constraints_met(form, n, &c, slack) {
                 return Some(segments);
@@ -1933,7 +2227,7 @@ fn levenberg_marquardt(
         if c.len() != nc {
             return None;
         }
-        let (mut a, mut g) = normal_equations(&jr, e, &reaching);
+        let (mut a, mut g) = normal_equations(solver, &jr, e, assign, &reaching);
         let floor = DIAGONAL_FLOOR * a.diagonal().max().max(f64::MIN_POSITIVE);
         // An unknown on its bound that the descent direction pushes beyond it is held there
         // (an active set): clamped after the step instead, it bends every step the model
@@ -2078,6 +2372,11 @@ fn laid_forward(
 ) -> Option<(Params, Vec<LacSegment>)> {
     let mut forward = x.clone();
     forward.theta0 = forward.pose[0].1;
+    // A free end is where the chain laid out forward ends: nothing to meet but C3's equations.
+    if layout.free_end() {
+        let laid = layout.build_form(Form::Forward, &forward).ok()?;
+        forward.end = laid.last()?.end();
+    }
     let segments = project(Form::Forward, solver, layout, &mut forward, c3_joints, None)?;
     Some((forward, segments))
 }

@@ -40,7 +40,7 @@ use dxf::{Drawing, Point as DxfPoint};
 use kurbo::{CubicBez, ParamCurveArclen};
 
 use crate::bspline::{FitOptions, fit_bspline};
-use crate::chain::{Chain, Continuity};
+use crate::chain::{Chain, Continuity, JointKind};
 use crate::geom::Point;
 use crate::pipeline::FitOutput;
 use crate::stroke::Units;
@@ -73,9 +73,9 @@ pub enum SplineForm {
     /// itself within the accuracy, joints included, but only C0 in its parameter (G1 as drawn).
     Bezier,
     /// A cubic B-spline with simple knots (C2) fitted to the chain within the accuracy: what a
-    /// CAD tool expects of a curvature-continuous curve. Written for G2 and C3 chains when it
-    /// holds the accuracy; its curvature follows the chain's to within what the accuracy allows,
-    /// not exactly.
+    /// CAD tool expects of a curvature-continuous curve. Written for G2 and C3 chains without a
+    /// corner inside when it holds the accuracy; its curvature follows the chain's to within
+    /// what the accuracy allows, not exactly.
     C2,
 }
 
@@ -191,8 +191,14 @@ pub fn dxf_drawing(output: &FitOutput, options: &DxfOptions) -> DxfExport {
             }
             cubics.extend(seg_cubics);
         }
-        // A curvature-continuous chain as a C2 spline where one holds the accuracy.
-        let c2 = (chain.continuity != Continuity::G1)
+        // A curvature-continuous chain as a C2 spline where one holds the accuracy; not one
+        // with a corner inside (a hook the smooth fit left G0): a C2 spline would round it.
+        let cornered = chain
+            .segments
+            .iter()
+            .skip(1)
+            .any(|s| s.start == JointKind::Corner);
+        let c2 = (chain.continuity != Continuity::G1 && !cornered)
             .then(|| c2_spline(chain, accuracy))
             .flatten();
         let (form, knots, points) = match c2 {
