@@ -1504,22 +1504,14 @@ pub(crate) fn tile_ranges(starts: &[Option<usize>], piece: (usize, usize)) -> Ve
     ranges
 }
 
-/// The distance from `q` to a polyline through points of `segment` spaced so that the segment
-/// stays within the chord error of it (a curve of curvature at most κ stays within κh²/8 of the
-/// chord of an arc of length h; a log-aesthetic segment's largest |κ| is at an end): the global
-/// distance to the segment, to the chord error, where a foot-point search may settle on a local
+/// The distance from `q` to `segment` found from its trace (a polyline through its points within
+/// the chord error of it, [`crate::lac::deviation::trace`], computed once per segment by the
+/// caller): the global distance to the segment, where a foot-point search may settle on a local
 /// minimum.
-fn traced_distance(segment: &LacSegment, q: Point, chord_error: f64) -> f64 {
-    let kappa = segment.kappa0().abs().max(segment.kappa1().abs());
-    let spacing = if kappa > 0.0 {
-        (8.0 * chord_error / kappa).sqrt()
-    } else {
-        segment.length()
-    };
+fn traced_distance(segment: &LacSegment, trace: &[(f64, Point)], q: Point) -> f64 {
     let mut best = (f64::INFINITY, 0.0);
     let mut previous: Option<(Point, f64)> = None;
-    for sample in segment.samples(spacing) {
-        let (b, sb) = (sample.point, sample.s);
+    for &(sb, b) in trace {
         let (a, sa) = previous.unwrap_or((b, sb));
         let ab = b - a;
         let f = if ab.hypot2() > 0.0 {
@@ -1563,6 +1555,8 @@ pub(crate) fn nearest_deviation(
     }
     order.sort_by(|x, y| y.0.total_cmp(&x.0));
     let mut worst: f64 = 0.0;
+    // Each segment's trace, made the first time a sample asks for it.
+    let mut traces: Vec<Option<Vec<(f64, Point)>>> = vec![None; segments.len()];
     for &(d, i) in &order {
         if d <= worst {
             break;
@@ -1572,16 +1566,16 @@ pub(crate) fn nearest_deviation(
         // one (seen: 2.16 px from a sample lying on the segment's end).
         let q = points[i];
         let mut nearest = d;
-        for segment in segments {
+        for (segment, trace) in segments.iter().zip(&mut traces) {
             // Every point of a segment lies within half its length of its middle.
             let length = segment.length();
             if q.distance(segment.point(0.5 * length)) - 0.5 * length >= nearest {
                 continue;
             }
             let local = deviation(segment, &[q], chord_error).max;
-            nearest = nearest
-                .min(local)
-                .min(traced_distance(segment, q, chord_error));
+            let trace =
+                trace.get_or_insert_with(|| crate::lac::deviation::trace(segment, chord_error));
+            nearest = nearest.min(local).min(traced_distance(segment, trace, q));
         }
         worst = worst.max(nearest);
     }

@@ -1062,7 +1062,8 @@ fn smooth_from(
         // ended with such an α pressed on its bound while the G1 chain's own α lies inside,
         // it may sit in a local minimum that the G1 α avoids (a planted S of two clothoids on a
         // pixel grid: α −3 against the planted −1, a third more cost): the fit from the G1 α
-        // is tried too and the lower cost kept.
+        // is tried too and the lower cost kept (also where the first holds the tolerance: its
+        // curvature profile can be 13 % off the planted one).
         if let Some((mut other, mut other_assign)) = started
             && let Some(g1_alpha) = g1_alpha_start(&layout, &x, &other, &chain.segments)
         {
