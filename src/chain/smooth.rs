@@ -656,6 +656,9 @@ struct Solver<'a> {
     /// Per sample, the weight of its squared distance in the fit's cost (empty: all 1; see
     /// [`MINIMAX_ROUNDS`]).
     weights: Vec<f64>,
+    /// While refitting for the largest distance ([`minimax`]): the tolerance, at which the fit
+    /// stops as soon as every sample is within it.
+    goal: Option<f64>,
 }
 
 impl Solver<'_> {
@@ -1049,6 +1052,7 @@ fn smooth_from(
             .max(END_TOLERANCE)
             / END_TOLERANCE,
         weights: Vec::new(),
+        goal: None,
     };
     layout.clamp(&mut x, solver.log_kappa);
     let (mut best_worst, mut stalled) = (f64::INFINITY, 0);
@@ -1228,6 +1232,7 @@ fn minimax(
 ) -> Option<(Evaluation, Vec<Vec<usize>>)> {
     let (mut x, mut assign) = (x.clone(), assign.to_vec());
     solver.weights = vec![1.0; solver.points.len()];
+    solver.goal = Some(tolerance);
     let mut found = None;
     let mut e = solver.evaluate(layout.build_shooting(&x).ok()?, &assign, None);
     for _ in 0..MINIMAX_ROUNDS {
@@ -1267,6 +1272,7 @@ fn minimax(
         e = next;
     }
     solver.weights = Vec::new();
+    solver.goal = None;
     found
 }
 
@@ -2321,6 +2327,11 @@ fn levenberg_marquardt(
         let before = e.cost;
         *x = trial;
         *e = t;
+        if let Some(goal) = solver.goal
+            && e.residuals.iter().flatten().all(|r| r.abs() <= goal)
+        {
+            break;
+        }
         if reassign(solver, &e.segments, assign) {
             *e = solver.evaluate(e.segments.clone(), assign, None);
         } else if decrease <= RELATIVE_DECREASE * before {
