@@ -193,3 +193,37 @@ fn a_g2_chain_is_written_as_a_c2_spline_within_the_accuracy_and_a_g1_chain_in_be
         assert!(export.splines[0].error <= accuracy);
     }
 }
+
+/// A smooth chain with a corner inside (a hook the smooth fit left G0) is written in Bézier form:
+/// a C2 spline would round the corner.
+#[test]
+fn a_smooth_chain_with_a_corner_inside_is_written_in_bezier_form() {
+    let file = common::fixture("google-ink-spring");
+    let out = fit_file(&file, &PipelineOptions::default()).expect("fit");
+    let cornered: Vec<bool> = out
+        .curves
+        .iter()
+        .filter_map(|c| c.chain.as_ref())
+        .map(|ch| {
+            ch.segments
+                .iter()
+                .skip(1)
+                .any(|s| s.start == kansei::chain::JointKind::Corner)
+        })
+        .collect();
+    assert!(
+        cornered.iter().any(|&c| c),
+        "the spring's smooth chain has a corner inside"
+    );
+    let export = dxf_drawing(&out, &DxfOptions::default());
+    assert_eq!(export.splines.len(), cornered.len());
+    for (report, &corner) in export.splines.iter().zip(&cornered) {
+        if corner {
+            assert_eq!(report.form, SplineForm::Bezier);
+        }
+    }
+    assert!(
+        export.splines.iter().any(|r| r.form == SplineForm::C2),
+        "a chain without a corner is still C2"
+    );
+}

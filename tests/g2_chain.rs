@@ -137,6 +137,44 @@ fn a_planted_c_on_a_pixel_grid_comes_back_curvature_continuous() {
     check("C, whole pixels", &shifted, &stroke, 1.0, 1.71);
 }
 
+/// The stroke's own ends move across their tangents only: a smooth chain whose first sample sits
+/// half a pixel off the drawn curve (a whole-pixel grid) may shift its start to fit it, but never
+/// slides beyond the first or last sample along the curve.
+#[test]
+fn a_smooth_chain_starts_and_ends_at_its_first_and_last_samples() {
+    let truth = planted(
+        0.015,
+        &[(120.0, Some(-1.0), 0.0), (120.0, Some(-1.0), -0.015)],
+    );
+    for (n, offset) in [(100, (100.3, 50.6)), (300, (7.8, 3.2)), (900, (40.5, 40.5))] {
+        let stroke = samples(&truth, n, |p| {
+            Point::new((p.x + offset.0).round(), (p.y + offset.1).round())
+        });
+        let tolerance = 0.75;
+        let chains = fit(&stroke, tolerance, Continuity::G2);
+        assert_eq!(chains.len(), 1);
+        let chain = &chains[0];
+        assert_eq!(chain.continuity, Continuity::G2, "{n}");
+        let first = stroke.samples[0].point();
+        let last = stroke.samples[stroke.samples.len() - 1].point();
+        let (start, end) = (
+            chain.segments[0].segment.start(),
+            chain.segments[chain.segments.len() - 1].segment.end(),
+        );
+        // The end points lie within the tolerance of the end samples (the samples' own distance
+        // to the chain is within it, and an end does not move along the curve).
+        assert!(
+            start.distance(first) <= tolerance,
+            "{n}: start {start:?} first {first:?}"
+        );
+        assert!(
+            end.distance(last) <= tolerance,
+            "{n}: end {end:?} last {last:?}"
+        );
+        assert!(chain.within_tolerance, "{n}");
+    }
+}
+
 #[test]
 fn g1_is_the_seed_papers_chain_and_g2_never_loses_the_tolerance() {
     // The same stroke in both modes: G1 is untouched by the smooth fit; G2 holds the tolerance.
