@@ -194,8 +194,8 @@ fn a_g2_chain_is_written_as_a_c2_spline_within_the_accuracy_and_a_g1_chain_in_be
     }
 }
 
-/// A smooth chain with a corner inside (a hook the smooth fit left G0) is written in Bézier form:
-/// a C2 spline would round the corner.
+/// A smooth chain with a corner inside (a hook the smooth fit left G0) is written in Bézier form,
+/// which keeps the corner (a C2 spline would follow it within the accuracy by a tight bend).
 #[test]
 fn a_smooth_chain_with_a_corner_inside_is_written_in_bezier_form() {
     let file = common::fixture("google-ink-spring");

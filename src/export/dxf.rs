@@ -192,7 +192,9 @@ pub fn dxf_drawing(output: &FitOutput, options: &DxfOptions) -> DxfExport {
             cubics.extend(seg_cubics);
         }
         // A curvature-continuous chain as a C2 spline where one holds the accuracy; not one
-        // with a corner inside (a hook the smooth fit left G0): a C2 spline would round it.
+        // with a corner inside (a hook the smooth fit left G0): a C2 spline would follow the
+        // corner within the accuracy by a tight bend, hiding from a CAD user the corner that the
+        // Bézier form keeps (a knot of multiplicity three there).
         let cornered = chain
             .segments
             .iter()
