@@ -221,8 +221,12 @@ const RELATIVE_DECREASE: f64 = 1e-2;
 /// balances truncation against rounding.
 const DIFFERENCE_STEP: f64 = 1e-6;
 
-/// Marquardt's damping starts at this multiple of the normal matrix's diagonal.
-const INITIAL_DAMPING: f64 = 1e-3;
+/// Marquardt's damping starts at this multiple of the normal matrix's diagonal. Most solves
+/// start near an answer (a cut chain, a minimax round, a second start), where a bolder first step
+/// is refused: on the nine fixture files in g2, 1e-3 took 1.9 trials per Levenberg–Marquardt
+/// iteration and 1.14 s for 819 segments, 3e-2 1.03 s for 824, 1e-1 1.04 s for 829, 3e-1 1.20 s
+/// for 833.
+const INITIAL_DAMPING: f64 = 3e-2;
 
 /// Damping after a refused step is multiplied by a factor that starts at this and doubles with
 /// each refusal in a row; after an accepted step it is scaled by max(1/3, 1 − (2ρ − 1)³), ρ the
