@@ -10,7 +10,8 @@
 //! 4. [`split`]: Bézier pieces split at inflections and curvature extrema into spans of
 //!    monotonic curvature.
 //! 5. [`chain`]: one log-aesthetic segment ([`lac`]) per span with the best α, refined
-//!    (Levenberg–Marquardt) into a G1 chain within the tolerance.
+//!    (Levenberg–Marquardt) into a G1 chain within the tolerance, then by default refitted with
+//!    one curvature per joint (G2; C3 on request, or the G1 chain kept).
 //! 6. [`export`]: `kansei-curve` JSON (with JSON Schemas), SVG and DXF within a stated error
 //!    of the exact curves; [`render`]: raster images (PNG, the app's canvas) drawn with tiny-skia.
 //!
