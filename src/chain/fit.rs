@@ -1513,13 +1513,7 @@ fn traced_distance(segment: &LacSegment, trace: &[(f64, Point)], q: Point) -> f6
     let mut previous: Option<(Point, f64)> = None;
     for &(sb, b) in trace {
         let (a, sa) = previous.unwrap_or((b, sb));
-        let ab = b - a;
-        let f = if ab.hypot2() > 0.0 {
-            ((q - a).dot(ab) / ab.hypot2()).clamp(0.0, 1.0)
-        } else {
-            0.0
-        };
-        let d = q.distance(a + ab * f);
+        let (d, f) = crate::lac::deviation::segment_distance(q, a, b);
         if d < best.0 {
             best = (d, sa + f * (sb - sa));
         }

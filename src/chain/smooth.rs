@@ -40,8 +40,8 @@
 //! bring onto the constraints is refused like one that raises the cost), so every iterate is a
 //! chain whose joints meet to a tenth of the tolerance (the answer's joints meet exactly once it
 //! is laid out forward). The Jacobian: a change of one unknown rebuilds its one or two
-//! segments, differenced at the samples' foot points (a length's column follows from the
-//! curvatures' by a scaling identity). Samples near a joint are handed to the
+//! segments, differenced at the samples' foot points (a pose's columns are those of a rigid
+//! motion, and a length's follows from the curvatures' by a scaling identity). Samples near a joint are handed to the
 //! neighbour that is nearer after every accepted step: a joint slides along the data as the fit
 //! moves it.
 //!
@@ -53,11 +53,11 @@
 //! whose shift from the arc is the tolerance. Where the first fit ends with an α pressed on its
 //! bound while the G1 chain's α lies inside, the fit from the G1 α is run as well and the lower
 //! cost kept (a local minimum: a planted S of two clothoids on a pixel grid came back as four
-//! segments at α = −3). Where the fit cannot start from there (the first projection onto the constraints
-//! fails: 16 parts of the fixture strokes) or does not end within the tolerance, it is run
-//! again with each joint's curvature at the geometric mean of the G1 chain's two sides. Where the
-//! joint equations cannot be met from the G1 chain's poses, the chain is laid out forward from its
-//! start instead (the joints then meet by construction and only the end point must be moved
+//! segments at α = −3). Where the fit cannot start from there (the first projection onto the
+//! constraints fails: 16 parts of the fixture strokes) or does not end within the tolerance, it is
+//! run again with each joint's curvature at the geometric mean of the G1 chain's two sides. Where
+//! the joint equations cannot be met from the G1 chain's poses, the chain is laid out forward from
+//! its start instead (the joints then meet by construction and only the end point must be moved
 //! there) and its poses start the fit. A part of one segment has no joint to make smooth and is
 //! kept as it is.
 //!
@@ -85,9 +85,8 @@
 //! misses the tolerance by a little is first refitted towards the minimax fit of the same
 //! segments (Lawson's reweighting, a few rounds). When the solved chain still leaves a
 //! sample farther than the tolerance from its nearest segment, every segment that misses is cut
-//! at its middle (a new joint with
-//! that point's curvature: the two halves are the same curve, so the chain stays on its
-//! constraints) and the fit runs again, at most [`MAX_CUT_ROUNDS`] rounds and until
+//! at its middle (a new joint with that point's curvature: the two halves are the same curve, so
+//! the chain stays on its constraints) and the fit runs again, at most [`MAX_CUT_ROUNDS`] rounds and until
 //! [`STALLED_ROUNDS`] rounds in a row bring the worst sample no nearer. When that is not enough,
 //! a part has more than [`MAX_SEGMENTS`] segments, or a chain cannot be built at all, the part
 //! keeps its G1 segments and the chain says [`Continuity::G1`].
@@ -184,8 +183,8 @@ pub const MAX_LENGTH_FACTOR: f64 = 10.0;
 
 /// Most segments of a chain the smooth fit solves (beyond, the G1 chain is kept). Its KKT
 /// system (about nine rows per segment: six unknowns, three joint equations) is solved in band
-/// order (a bandwidth of about fifteen whatever the length), so its cost grows
-/// linearly with the segments; the limit bounds the cut rounds' work on a part the smooth fit
+/// order (a bandwidth of about fifteen whatever the length), so its cost grows linearly with
+/// the segments; the limit bounds the cut rounds' work on a part the smooth fit
 /// cannot hold.
 pub const MAX_SEGMENTS: usize = 40;
 
@@ -285,9 +284,8 @@ const LAWSON_FLOOR: f64 = 0.05;
 /// The joints of a chain in the shooting form (the fit's start and every Levenberg–Marquardt
 /// trial) are met to this fraction of the tolerance, not exactly: the next step's linearised
 /// constraints carry the gaps left (the KKT system's right-hand side), and the fit's answer is
-/// laid out forward,
-/// joints meeting by construction and the end point to [`END_TOLERANCE`], before any distance
-/// is reported. Exact trials took a Newton step per factor of 3 or so from a step's violation
+/// laid out forward, joints meeting by construction and the end point to [`END_TOLERANCE`],
+/// before any distance is reported. Exact trials took a Newton step per factor of 3 or so from a step's violation
 /// (1e-3 … 1e-1 of the extent) down to 1e-10, most of the smooth fit's time. On the fixture
 /// strokes in g2, gaps of 1e-4 of the extent gave 1.40 s for the nine files (1.81 s exact), 1e-3
 /// 1.22 s, both with 261 of 263 curves G2; 1e-2 lost a curve. A tenth of the tolerance (over
@@ -1084,35 +1082,30 @@ fn smooth_from(
         }
         let own = distances(&evaluation);
         let (worst, _) = worst_sample(&own);
-        // A near miss is first fitted for its largest distance rather than cut (see
-        // [`MINIMAX_ROUNDS`]).
-        let minimax = (worst > smooth.tolerance && worst <= MINIMAX_REACH * smooth.tolerance)
-            .then(|| minimax(&mut solver, &layout, &x, &assign, smooth.tolerance))
-            .flatten();
-        if let Some((evaluation, assign)) = &minimax {
-            let own = distances(evaluation);
+        // Every sample within the tolerance of its own segment and of the whole chain: done.
+        let held = |evaluation: &Evaluation, assign: &[Vec<usize>], own: &[Vec<f64>]| {
             let nearest = nearest_deviation(
                 points,
                 &evaluation.segments,
                 assign,
-                &own,
+                own,
                 smooth.chord_error,
             );
-            if nearest <= smooth.tolerance {
-                return Ok(finish(smooth, &layout, evaluation, assign, nearest));
-            }
-        }
+            (nearest <= smooth.tolerance)
+                .then(|| finish(smooth, &layout, evaluation, assign, nearest))
+        };
         if worst <= smooth.tolerance {
-            let nearest = nearest_deviation(
-                points,
-                &evaluation.segments,
-                &assign,
-                &own,
-                smooth.chord_error,
-            );
-            if nearest <= smooth.tolerance {
-                return Ok(finish(smooth, &layout, &evaluation, &assign, nearest));
+            if let Some(chain) = held(&evaluation, &assign, &own) {
+                return Ok(chain);
             }
+        } else if worst <= MINIMAX_REACH * smooth.tolerance
+            // A near miss is first fitted for its largest distance rather than cut (see
+            // [`MINIMAX_ROUNDS`]).
+            && let Some((evaluation, assign)) =
+                minimax(&mut solver, &layout, &x, &assign, &evaluation, smooth.tolerance)
+            && let Some(chain) = held(&evaluation, &assign, &distances(&evaluation))
+        {
+            return Ok(chain);
         }
         if worst < best_worst {
             best_worst = worst;
@@ -1213,6 +1206,14 @@ fn g1_alpha_start(
     stuck.then_some(alpha)
 }
 
+/// The largest of an evaluation's distances.
+fn largest_distance(e: &Evaluation) -> f64 {
+    e.residuals
+        .iter()
+        .flatten()
+        .fold(0.0_f64, |m, r| m.max(r.abs()))
+}
+
 /// Each segment's samples' distances (unsigned) in an evaluation.
 fn distances(e: &Evaluation) -> Vec<Vec<f64>> {
     e.residuals
@@ -1232,19 +1233,17 @@ fn minimax(
     layout: &Layout,
     x: &Params,
     assign: &[Vec<usize>],
+    evaluation: &Evaluation,
     tolerance: f64,
 ) -> Option<(Evaluation, Vec<Vec<usize>>)> {
     let (mut x, mut assign) = (x.clone(), assign.to_vec());
     solver.weights = vec![1.0; solver.points.len()];
     solver.goal = Some(tolerance);
     let mut found = None;
-    let mut e = solver.evaluate(layout.build_shooting(&x).ok()?, &assign, None);
+    let mut last: Option<Evaluation> = None;
     for _ in 0..MINIMAX_ROUNDS {
-        let worst = e
-            .residuals
-            .iter()
-            .flatten()
-            .fold(0.0_f64, |m, r| m.max(r.abs()));
+        let e = last.as_ref().unwrap_or(evaluation);
+        let worst = largest_distance(e);
         if !(worst > 0.0) {
             break;
         }
@@ -1264,16 +1263,11 @@ fn minimax(
         let Some(next) = solve(solver, layout, &mut x, &mut assign) else {
             break;
         };
-        let largest = next
-            .residuals
-            .iter()
-            .flatten()
-            .fold(0.0_f64, |m, r| m.max(r.abs()));
-        if largest <= tolerance {
+        if largest_distance(&next) <= tolerance {
             found = Some((next, assign));
             break;
         }
-        e = next;
+        last = Some(next);
     }
     solver.weights = Vec::new();
     solver.goal = None;
@@ -1903,22 +1897,32 @@ fn shooting_jacobian(
         let mut xp = x.clone();
         set(&mut xp, var, get(x, var) + DIFFERENCE_STEP);
         for k in k0..=k1 {
-            // A pose moves its segment rigidly: no new construction.
-            let seg = match var {
-                Var::X(j) | Var::Y(j) | Var::Angle(j) if j == k => {
-                    e.segments[k].placed(xp.pose[k].0, xp.pose[k].1)
-                }
-                Var::StartShift => e.segments[k].placed(xp.pose[k].0, xp.pose[k].1),
-                _ => layout.segment(&xp, k, xp.pose[k].0, xp.pose[k].1).ok()?,
+            // A pose moves its segment rigidly, each point by shift + turn·(P − Pₖ)^⊥ per unit
+            // of the unknown: no construction, no integration, and exact.
+            let rigid = match var {
+                Var::X(j) if j == k => Some((Vec2::new(1.0, 0.0), 0.0)),
+                Var::Y(j) if j == k => Some((Vec2::new(0.0, 1.0), 0.0)),
+                Var::Angle(j) if j == k => Some((Vec2::ZERO, 1.0)),
+                Var::StartShift => Some((x.anchors[0].1, 0.0)),
+                _ => None,
             };
-            let ratio = seg.length() / e.segments[k].length();
-            let feet: Vec<f64> = e.feet[k].iter().map(|s| s * ratio).collect();
-            let moved = crate::lac::deviation::points_at(&seg, &feet);
-            for (m, (((_, nrm), p), f)) in
-                e.foot_points[k].iter().zip(moved).zip(&base[k]).enumerate()
-            {
-                jr[(offsets[k] + m, col)] = -nrm.dot((p - *f) / DIFFERENCE_STEP);
-            }
+            let rows = e.foot_points[k].iter().zip(&base[k]).enumerate();
+            let seg = if let Some((shift, turn)) = rigid {
+                let start = e.segments[k].start();
+                for (m, ((_, nrm), f)) in rows {
+                    jr[(offsets[k] + m, col)] = -nrm.dot(shift + perp(*f - start) * turn);
+                }
+                e.segments[k].placed(xp.pose[k].0, xp.pose[k].1)
+            } else {
+                let seg = layout.segment(&xp, k, xp.pose[k].0, xp.pose[k].1).ok()?;
+                let ratio = seg.length() / e.segments[k].length();
+                let feet: Vec<f64> = e.feet[k].iter().map(|s| s * ratio).collect();
+                let moved = crate::lac::deviation::points_at(&seg, &feet);
+                for ((m, ((_, nrm), f)), p) in rows.zip(moved) {
+                    jr[(offsets[k] + m, col)] = -nrm.dot((p - *f) / DIFFERENCE_STEP);
+                }
+                seg
+            };
             segments[k] = seg;
         }
         let c1 = solver.constraints(Form::Shooting, &segments, &xp, c3_joints);
@@ -2051,8 +2055,8 @@ fn project(
                 return Some(segments);
             }
             // The chord steps converge linearly: at the rate seen so far, would the steps
-            // left reach the constraints? If not, stop now (fresh Jacobians take over)
-            // rather than after every step.
+            // left reach the constraints? If not, refuse the trial now rather than after
+            // every step.
             let size = c.amax();
             if fixed.is_some()
                 && let Some(before) = previous
@@ -2332,7 +2336,7 @@ fn levenberg_marquardt(
         *x = trial;
         *e = t;
         if let Some(goal) = solver.goal
-            && e.residuals.iter().flatten().all(|r| r.abs() <= goal)
+            && largest_distance(e) <= goal
         {
             break;
         }
@@ -2392,6 +2396,9 @@ fn laid_forward(
     if layout.free_end() {
         let laid = layout.build_form(Form::Forward, &forward).ok()?;
         forward.end = laid.last()?.end();
+        if !solver.c3 {
+            return Some((forward, laid));
+        }
     }
     let segments = project(Form::Forward, solver, layout, &mut forward, c3_joints, None)?;
     Some((forward, segments))

@@ -523,7 +523,7 @@ fn project_raw(polyline: &[(f64, Point)], samples: &[Point]) -> Deviation {
 }
 
 /// Distance from `q` to segment `ab` and the foot's fraction along it.
-fn segment_distance(q: Point, a: Point, b: Point) -> (f64, f64) {
+pub(crate) fn segment_distance(q: Point, a: Point, b: Point) -> (f64, f64) {
     let ab: Vec2 = b - a;
     let len2 = ab.hypot2();
     let f = if len2 > 0.0 {
