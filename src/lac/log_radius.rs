@@ -32,6 +32,22 @@
 //! move by at most the remaining turning; the error is below that bound times the mass).
 //! Symmetrically for α > 0, where the mass sits at the top end, the part of [0, U] more than
 //! [`SKIP_DECADES`]/α below U carries less than e^{−40} of the total and is skipped.
+//!
+//! ## The settling tail (α < 0)
+//! For α < 0 (β < 0) the phase settles: θ(u) = θ_∞ − ε(u) with θ_∞ = c/|β| and
+//! ε(u) = θ_∞·e^{βu}, the turning still to come. From a point u₀ where ε₀ = ε(u₀) is at most
+//! [`SERIES_MAX_TURNING`], e^{−iε} is expanded in its power series and every term integrates in
+//! closed form, ε(u)^m = ε₀^m·e^{mβ(u−u₀)}:
+//!
+//! ∫_{u₀}^U e^{αu}·e^{iθ} du = e^{iθ_∞}·e^{αu₀}·Σ_m ((−iε₀)^m/m!)·E_m,
+//! E_m = ∫₀^{U−u₀} e^{k_m t} dt = expm1(k_m(U − u₀))/k_m (1/|k_m| for U = ∞), k_m = α + mβ < 0,
+//!
+//! and J's tail is θ_∞ times I's minus the same series with ε₀^{m+1}·E_{m+1}. The terms fall
+//! like ε₀^m/m! (below 1e-17 of the sum after about twenty at ε₀ = 1) and the phase moves by at
+//! most ε₀ over the tail, so the sum cannot cancel. A κ = 0 end (U = ∞), whose tail Gauss–Legendre
+//! panels had to follow for tens of e-folds of the slowly decaying amplitude (a dozen panels of
+//! up to 16 nodes at α near 0), is then a few panels at most, none where the whole span turns
+//! less than a radian.
 
 use super::special::{cis, cis_small, cmul, exprel};
 use crate::geom::Vec2;
@@ -46,6 +62,18 @@ pub const PANEL_MAX_TURNING: f64 = 2.0;
 /// For α < 0: the mass still to come is neglected once below this fraction of the integral so far
 /// (half an ulp of the result).
 pub const NEGLIGIBLE_MASS: f64 = 1e-17;
+
+/// For α < 0: the rest of the integral is summed as the settling tail's series (module
+/// documentation) once the turning still to come is at most this many radians: its terms then
+/// fall from the first, at least as fast as 1/m!.
+pub const SERIES_MAX_TURNING: f64 = 1.0;
+
+/// The settling tail's series stops once a term is below this fraction of the sum (half an ulp).
+const TAIL_TERM_EPS: f64 = 1e-17;
+
+/// Most terms of the settling tail's series: at ε₀ = 1 the m-th term is at most 1/m!, below
+/// 1e-17 from m = 19 on.
+const SERIES_MAX_TERMS: usize = 30;
 
 /// For α > 0: the stretch of u more than this many e-folds (divided by α) below U is skipped; its
 /// share of the integral is below e^{−40} ≈ 4e-18.
@@ -115,6 +143,15 @@ pub(crate) fn integrals(
             break;
         }
         if alpha < 0.0 {
+            // β < α < 0: the phase settles towards θ_∞ = c/|β|.
+            let to_come = c / -beta * (beta * lo).exp();
+            if to_come <= SERIES_MAX_TURNING {
+                let (tail, tail_moment) =
+                    settling_tail(alpha, c, lo, upper - lo, shift, to_come, with_moment);
+                acc += tail;
+                moment += tail_moment;
+                break;
+            }
             let mass = (alpha * lo - shift).exp() / -alpha;
             if lo > 0.0 && mass <= NEGLIGIBLE_MASS * acc.hypot() {
                 // ∫_lo^U e^{αu} du ≈ mass (U = ∞) or mass·(1 − e^{α(U−lo)}).
@@ -203,6 +240,54 @@ pub(crate) fn integrals(
     (acc, moment)
 }
 
+/// The settling tail of [`integrals`] for α < 0 (module documentation): e^{−shift} times
+/// ∫_{u₀}^{u₀+T} e^{αu}·e^{iθ(u)} du and, with `with_moment`, the same with the extra factor θ(u),
+/// for T ∈ (0, ∞] and ε₀ = θ_∞ − θ(u₀) ∈ [0, [`SERIES_MAX_TURNING`]].
+fn settling_tail(
+    alpha: f64,
+    c: f64,
+    u0: f64,
+    span: f64,
+    shift: f64,
+    eps0: f64,
+    with_moment: bool,
+) -> (Vec2, Vec2) {
+    let beta = alpha - 1.0;
+    let theta_inf = c / -beta;
+    // E_m = ∫₀^T e^{k_m t} dt, k_m = α + mβ < 0.
+    let e_m = |m: usize| {
+        let k = alpha + m as f64 * beta;
+        if span.is_finite() {
+            (k * span).exp_m1() / k
+        } else {
+            1.0 / -k
+        }
+    };
+    // Σ_m ((−iε₀)^m/m!)·E_{m+offset}, offset 0 for I and 1 for the moment.
+    let series = |offset: usize| {
+        let mut sum = Vec2::ZERO;
+        // (−i)^m·ε₀^m/m! as a complex number.
+        let mut power = Vec2::new(1.0, 0.0);
+        for m in 0..SERIES_MAX_TERMS {
+            let term = power * e_m(m + offset);
+            sum += term;
+            if term.hypot() <= TAIL_TERM_EPS * sum.hypot() {
+                break;
+            }
+            power = Vec2::new(power.y, -power.x) * (eps0 / (m + 1) as f64);
+        }
+        sum
+    };
+    let front = cis(theta_inf) * (alpha * u0 - shift).exp();
+    let tail = cmul(front, series(0));
+    let moment = if with_moment {
+        tail * theta_inf - cmul(front, series(1)) * eps0
+    } else {
+        Vec2::ZERO
+    };
+    (tail, moment)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -235,6 +320,87 @@ mod tests {
                 }
             }
         }
+    }
+
+    #[test]
+    fn the_moment_is_the_derivative_in_c() {
+        // ∂I/∂c = (i/c)·J (see [`integrals`]), through the settling tail and without it.
+        for alpha in [-3.0, -1.0, -0.3, -0.01, 0.5, 1.5] {
+            for c in [0.05, 0.4, 1.0, 3.0] {
+                for upper in [0.3, 2.0, 9.0, f64::INFINITY] {
+                    if alpha >= 0.0 && !upper.is_finite() {
+                        continue;
+                    }
+                    let shift = if alpha > 0.0 { alpha * upper } else { 0.0 };
+                    let (i, j) = integrals(alpha, c, upper, shift, true);
+                    let h = 1e-6 * c;
+                    let d = (integrals(alpha, c + h, upper, shift, false).0
+                        - integrals(alpha, c - h, upper, shift, false).0)
+                        / (2.0 * h);
+                    let expected = Vec2::new(-j.y, j.x) / c;
+                    let err = (d - expected).hypot();
+                    assert!(
+                        err <= 1e-7 * (expected.hypot() + i.hypot() / c),
+                        "α {alpha} c {c} U {upper}: {d:?} vs {expected:?}"
+                    );
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn the_settling_tail_agrees_with_panels() {
+        // The series alone over the whole span (ε₀ = θ_∞, every span here turns at most a
+        // radian in all) against an independent fine composite rule.
+        for alpha in [-3.0, -1.0, -0.3, -0.01] {
+            for c in [0.1, 0.6, 1.0] {
+                let beta = alpha - 1.0;
+                for upper in [0.5, 4.0, 30.0, f64::INFINITY] {
+                    let (tail, _) = settling_tail(alpha, c, 0.0, upper, 0.0, c / -beta, false);
+                    let reference = quadrature_reference(alpha, c, upper);
+                    let err = (tail - reference).hypot();
+                    assert!(
+                        err <= 1e-14 * reference.hypot(),
+                        "α {alpha} c {c} U {upper}: {tail:?} vs {reference:?} ({err:e})"
+                    );
+                }
+            }
+        }
+    }
+
+    /// I(α, c, U) by 16-node composite Gauss–Legendre panels of width 1/16 (U = ∞ cut where the
+    /// amplitude falls below 1e-18): an independent reference for the series.
+    fn quadrature_reference(alpha: f64, c: f64, upper: f64) -> Vec2 {
+        let beta = alpha - 1.0;
+        let end = if upper.is_finite() {
+            upper
+        } else {
+            (1e-18f64).ln() / alpha
+        };
+        let panels = (end * 16.0).ceil().max(1.0) as usize;
+        let width = end / panels as f64;
+        // Thousands of panels: summed with Neumaier's compensation, or the reference's own
+        // rounding (1e-13 of the sum) would exceed the error measured.
+        let (mut sum, mut carry) = ([0.0f64; 2], [0.0f64; 2]);
+        for p in 0..panels {
+            let (lo, hi) = (p as f64 * width, (p + 1) as f64 * width);
+            let mut panel = Vec2::ZERO;
+            for &(w, x) in GAUSS_LEGENDRE_COEFFS_16 {
+                let u = 0.5 * (lo + hi) + 0.5 * (hi - lo) * x;
+                let theta = c * (beta * u).exp_m1() / beta;
+                panel += cis(theta) * (w * 0.5 * (hi - lo) * (alpha * u).exp());
+            }
+            for (k, v) in [panel.x, panel.y].into_iter().enumerate() {
+                let t = sum[k] + v;
+                carry[k] += if sum[k].abs() >= v.abs() {
+                    (sum[k] - t) + v
+                } else {
+                    (v - t) + sum[k]
+                };
+                sum[k] = t;
+            }
+        }
+        Vec2::new(sum[0] + carry[0], sum[1] + carry[1])
     }
 
     #[test]

@@ -68,6 +68,13 @@ const LIMIT_SERIES_MAX_TERMS: usize = 80;
 /// decides. Far above the series' rounding (≈ 1e-14 for turnings up to 2π).
 const LIMIT_PRECHECK_MARGIN: f64 = 1e-9;
 
+/// For α < 0, a target chord angle inside the κ = 0 edge by at most this (radians) is on the
+/// edge too: the edge's chord angle and the data's (a segment ending at κ = 0, evaluated on
+/// another path) agree only to rounding, a few 1e-16 rad, and inside by that much the solve
+/// would return a finite ratio where φ(q) meets the data to rounding (e^{18} at α = −2: an end
+/// curvature of 1e-8 of the other's instead of 0).
+const EDGE_ROUNDING: f64 = 1e-14;
+
 /// For α < 0, data whose larger end angle is within this of the series value of the edge's chord
 /// angle (radians) goes straight to the exact edge test: far above the series' rounding, so no
 /// data on the edge (within [`DRAWABLE_EDGE_TOLERANCE`]) is solved for a huge finite ratio instead
@@ -389,7 +396,7 @@ fn build(
         if f_edge < -DRAWABLE_EDGE_TOLERANCE {
             return Err(outside());
         }
-        if f_edge <= 0.0 {
+        if f_edge <= EDGE_ROUNDING {
             return Ok(None);
         }
         // Beyond q = 600 the far-end curvature is not representable. For α well below 0 the
