@@ -74,7 +74,8 @@
 //! A joint may not bend tighter than a radius of [`MIN_RADIUS_TOLERANCES`] tolerances, nor turn
 //! more than [`MAX_TURN_PER_SAMPLE`] between two samples (a tighter bend is a corner the samples
 //! cannot tell from a curve), and a segment may not grow beyond [`MAX_LENGTH_FACTOR`] times its
-//! starting length. A G1 joint that bends beyond those bounds (a hook, a needle) becomes a
+//! starting length nor turn more than [`MAX_EXTRA_TURNING`] beyond its starting turning. A G1
+//! joint that bends beyond those bounds (a hook, a needle) becomes a
 //! corner of the smooth chain, and the parts between such corners are fitted on their own,
 //! between fixed end points. So does a joint the fit presses against the curvature bound while
 //! it still misses the tolerance (the G1 joint nearest it): the samples ask for a tighter bend
@@ -180,6 +181,13 @@ pub const MAX_RADIUS_EXTENTS: f64 = 1e6;
 /// beyond that has left its samples (a spiral winding between two samples), and the step is
 /// refused.
 pub const MAX_LENGTH_FACTOR: f64 = 10.0;
+
+/// Largest turning of a segment beyond its starting (G1) segment's, radians: a chain whose
+/// segment winds further has left its samples (a projection onto the joint equations from a far
+/// start went through spirals of α = −3 turning 50 rad on a 12-sample stroke, each of them a
+/// quadrature of two dozen panels), and the projection refuses it like one that does not
+/// converge. Half a turn more than the samples' own segment is beyond any drawn curve.
+pub const MAX_EXTRA_TURNING: f64 = std::f64::consts::PI;
 
 /// Most segments of a chain the smooth fit solves (beyond, the G1 chain is kept). Its KKT
 /// system (about nine rows per segment: six unknowns, three joint equations) is solved in band
@@ -365,6 +373,8 @@ struct Layout {
     alpha_bounds: Vec<Option<(f64, f64)>>,
     /// Per segment: the largest length.
     max_length: Vec<f64>,
+    /// Per segment: the largest turning (radians, either sense; see [`MAX_EXTRA_TURNING`]).
+    max_turning: Vec<f64>,
     /// Per segment: the joint kind at its start (the last segment's end is in `end_kind`).
     kinds: Vec<JointKind>,
     end_kind: JointKind,
@@ -549,6 +559,15 @@ impl Layout {
             Var::Joint(j) => (j.saturating_sub(1), j.min(self.n() - 1)),
             Var::Length(k) | Var::Alpha(k) | Var::X(k) | Var::Y(k) | Var::Angle(k) => (k, k),
         }
+    }
+
+    /// Whether a segment of `segments` (laid out by this layout) turns more than its
+    /// [`MAX_EXTRA_TURNING`] bound.
+    fn winds(&self, segments: &[LacSegment]) -> bool {
+        segments
+            .iter()
+            .zip(&self.max_turning)
+            .any(|(s, &max)| (s.theta1() - s.theta0()).abs() > max)
     }
 
     /// Interior joints whose dκ/ds is constrained (C3): the non-zero ones.
@@ -1375,6 +1394,10 @@ fn start_layout(
             .iter()
             .map(|s| MAX_LENGTH_FACTOR * s.length())
             .collect(),
+        max_turning: segs
+            .iter()
+            .map(|s| (s.theta1() - s.theta0()).abs() + MAX_EXTRA_TURNING)
+            .collect(),
         kinds: smooth.chain.segments.iter().map(|s| s.start).collect(),
         end_kind: smooth.chain.segments[n - 1].end,
         origin: (0..n).collect(),
@@ -1611,6 +1634,8 @@ fn split_at(
     layout.alpha_bounds.insert(k + 1, layout.alpha_bounds[k]);
     let max = layout.max_length[k];
     layout.max_length.insert(k + 1, max);
+    let max = layout.max_turning[k];
+    layout.max_turning.insert(k + 1, max);
     layout.kinds.insert(k + 1, JointKind::Subdivision);
     let origin = layout.origin[k];
     layout.origin.insert(k + 1, origin);
@@ -2050,6 +2075,9 @@ fn project(
         for step in 0..=steps {
             layout.clamp(x, solver.log_kappa);
             let segments = layout.build_form(form, x).ok()?;
+            if layout.winds(&segments) {
+                return None;
+            }
             let c = solver.constraints(form, &segments, x, c3_joints);
             if solver.constraints_met(form, n, &c, slack) {
                 return Some(segments);
