@@ -1082,7 +1082,8 @@ fn smooth_from(
             return Err(Missed::Other);
         }
         let started = (round == 0).then(|| (x.clone(), assign.clone()));
-        let mut evaluation = solve(&solver, &layout, &mut x, &mut assign).ok_or(Missed::Other)?;
+        let mut evaluation =
+            solve(&solver, &layout, &mut x, &mut assign, None).ok_or(Missed::Other)?;
         // The starting α match the G1 chain's turning (see [`start_layout`]); where the fit
         // ended with such an α pressed on its bound while the G1 chain's own α lies inside,
         // it may sit in a local minimum that the G1 α avoids (a planted S of two clothoids on a
@@ -1093,7 +1094,7 @@ fn smooth_from(
             && let Some(g1_alpha) = g1_alpha_start(&layout, &x, &other, &chain.segments)
         {
             other.alpha = g1_alpha;
-            if let Some(e) = solve(&solver, &layout, &mut other, &mut other_assign)
+            if let Some(e) = solve(&solver, &layout, &mut other, &mut other_assign, None)
                 && e.cost < evaluation.cost
             {
                 (evaluation, x, assign) = (e, other, other_assign);
@@ -1279,7 +1280,8 @@ fn minimax(
         for w in &mut solver.weights {
             *w /= mean;
         }
-        let Some(next) = solve(solver, layout, &mut x, &mut assign) else {
+        let before = assign.clone();
+        let Some(next) = solve(solver, layout, &mut x, &mut assign, Some((e, &before))) else {
             break;
         };
         if largest_distance(&next) <= tolerance {
@@ -1714,15 +1716,27 @@ fn distance(solver: &Solver, segment: &LacSegment, q: Point) -> f64 {
     deviation(segment, &[q], solver.chord_error).max
 }
 
+/// Distance from `q`, a sample next to a joint, to `segment` on one side of it: its foot
+/// polished by Newton's method from the joint (`at_end`: the segment's end, else its start),
+/// where a sample handed across a joint has its foot on either segment; searched along the
+/// whole segment where the polish does not settle.
+fn distance_at_joint(solver: &Solver, segment: &LacSegment, q: Point, at_end: bool) -> f64 {
+    let seed = if at_end { segment.length() } else { 0.0 };
+    deviation_near(segment, &[q], &[seed]).map_or_else(|| distance(solver, segment, q), |d| d.max)
+}
+
 /// Hands the samples at each joint to the nearer of its two segments (keeping every segment at
 /// least one sample it had); true when any moved.
 fn reassign(solver: &Solver, segments: &[LacSegment], assign: &mut [Vec<usize>]) -> bool {
     let mut changed = false;
+    // The distances to the segment before the joint (its end) and after it (its start).
+    let distance = |k: usize, q: Point| distance_at_joint(solver, &segments[k], q, true);
+    let distance_after = |k: usize, q: Point| distance_at_joint(solver, &segments[k + 1], q, false);
     for k in 0..segments.len().saturating_sub(1) {
         while assign[k].len() > 1 {
             let Some(&i) = assign[k].last() else { break };
             let q = solver.points[i];
-            if distance(solver, &segments[k + 1], q) < distance(solver, &segments[k], q) {
+            if distance_after(k, q) < distance(k, q) {
                 assign[k].pop();
                 assign[k + 1].insert(0, i);
                 changed = true;
@@ -1733,7 +1747,7 @@ fn reassign(solver: &Solver, segments: &[LacSegment], assign: &mut [Vec<usize>])
         while assign[k + 1].len() > 1 {
             let i = assign[k + 1][0];
             let q = solver.points[i];
-            if distance(solver, &segments[k], q) < distance(solver, &segments[k + 1], q) {
+            if distance(k, q) < distance_after(k, q) {
                 assign[k + 1].remove(0);
                 assign[k].push(i);
                 changed = true;
@@ -2380,12 +2394,15 @@ fn levenberg_marquardt(
 /// The constrained fit from `x` (shooting form, see [`Form`]), then the answer laid out forward
 /// so that the joints meet exactly; the forward chain's evaluation, or `None` where no chain
 /// meeting the constraints could be built. `x` keeps the shooting solution (the next cut starts
-/// from it).
+/// from it). `near`: an evaluation of a chain close to `x`'s with its assignment (the last
+/// round's, in [`minimax`]), whose feet seed the first evaluation's where a segment holds the
+/// same samples.
 fn solve(
     solver: &Solver,
     layout: &Layout,
     x: &mut Params,
     assign: &mut [Vec<usize>],
+    near: Option<(&Evaluation, &[Vec<usize>])>,
 ) -> Option<Evaluation> {
     let c3_joints = layout.c3_joints();
     let segments = match project(Form::Shooting, solver, layout, x, &c3_joints, None) {
@@ -2401,13 +2418,17 @@ fn solve(
             segments
         }
     };
-    let mut e = solver.evaluate(segments, assign, None);
+    let mut e = solver.evaluate(segments, assign, near);
     if reassign(solver, &e.segments, assign) {
         e = solver.evaluate(e.segments.clone(), assign, None);
     }
     levenberg_marquardt(solver, layout, x, assign, &mut e)?;
     let (_, segments) = laid_forward(solver, layout, x, &c3_joints)?;
-    Some(solver.evaluate(segments, assign, None))
+    // The forward chain is the solution's to the joints' gaps (a tenth of the tolerance): each
+    // foot is polished from the solution's own, not searched for again along the whole
+    // segment. A polished foot is a local nearest point, its distance never below the global
+    // one, so a chain found within the tolerance is within it.
+    Some(solver.evaluate(segments, assign, Some((&e, assign))))
 }
 
 /// The chain of `x` laid out forward from its first pose, its end point brought onto the
