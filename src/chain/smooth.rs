@@ -54,8 +54,9 @@
 //! bound while the G1 chain's α lies inside, the fit from the G1 α is run as well and the lower
 //! cost kept (a local minimum: a planted S of two clothoids on a pixel grid came back as four
 //! segments at α = −3). Where the fit cannot start from there (the first projection onto the
-//! constraints fails: 16 parts of the fixture strokes) or does not end within the tolerance, it is
-//! run again with each joint's curvature at the geometric mean of the G1 chain's two sides. Where
+//! constraints fails: 16 parts of the fixture strokes) or does not end within the tolerance for
+//! another reason than the curvature bound (below), it is run again with each joint's curvature
+//! at the geometric mean of the G1 chain's two sides. Where
 //! the joint equations cannot be met from the G1 chain's poses, the chain is laid out forward from
 //! its start instead (the joints then meet by construction and only the end point must be moved
 //! there) and its poses start the fit. A part of one segment has no joint to make smooth and is
@@ -78,9 +79,11 @@
 //! joint that bends beyond those bounds (a hook, a needle) becomes a
 //! corner of the smooth chain, and the parts between such corners are fitted on their own,
 //! between fixed end points. So does a joint the fit presses against the curvature bound while
-//! it still misses the tolerance (the G1 joint nearest it): the samples ask for a tighter bend
-//! there than a smooth chain may make (on the fixture strokes, 18 such corners made 16 more
-//! curves G2 throughout). And where a part fails whose first (last) segment leaves its corner
+//! it still misses the tolerance (the G1 joint nearest it), as soon as a round of the fit ends
+//! so: the samples ask for a tighter bend there than a smooth chain may make (on the fixture
+//! strokes, 18 such corners made 16 more curves G2 throughout; cutting more segments or starting
+//! again from other joint curvatures first never found a smooth chain there, and took a third
+//! of the painting's smooth fit). And where a part fails whose first (last) segment leaves its corner
 //! bending beyond the bound (a hook at a corner, κ = 12 /px on painting strokes), that segment's
 //! other joint becomes a corner and it stays as the G1 chain has it. A least-squares chain that
 //! misses the tolerance by a little is first refitted towards the minimax fit of the same
@@ -1019,12 +1022,17 @@ fn smooth_part(smooth: &SmoothInput) -> Result<Chain, Missed> {
         });
     }
     // The joints' curvatures start at the B-spline's; where the fit cannot start or finish from
-    // there, at the G1 chain's own (the two sides' geometric mean).
+    // there, at the G1 chain's own (the two sides' geometric mean). A miss against the curvature
+    // bound is the samples' (the joint becomes a corner, see [`smooth_chain`]): on the fixture
+    // strokes the second start never held where the first missed so, in 11 tries.
     let mut missed = Missed::Other;
     for start in [JointStart::Spline, JointStart::Chain] {
         match smooth_from(smooth, assign.clone(), start) {
             Ok(chain) => return Ok(chain),
-            Err(Missed::Bound(j)) if missed == Missed::Other => missed = Missed::Bound(j),
+            Err(Missed::Bound(j)) => {
+                missed = Missed::Bound(j);
+                break;
+            }
             Err(_) => {}
         }
     }
@@ -1126,6 +1134,9 @@ fn smooth_from(
             && let Some(chain) = held(&evaluation, &assign, &distances(&evaluation))
         {
             return Ok(chain);
+        }
+        if let missed @ Missed::Bound(_) = on_bound(&layout, &x, &chain.segments, max_log_kappa) {
+            return Err(missed);
         }
         if worst < best_worst {
             best_worst = worst;
