@@ -226,6 +226,11 @@ const MAX_ITERATIONS: usize = 40;
 /// search's own foot points, at 1e-3: 926 segments, 0.28).
 const RELATIVE_DECREASE: f64 = 1e-2;
 
+/// The solve also stops when an accepted step lowers the sum of squared distances by less than
+/// this fraction while every sample is within the tolerance: the chain then holds and the steps
+/// left would move the distances by a percent or two.
+const WITHIN_DECREASE: f64 = 5e-2;
+
 /// Forward-difference step of the unknowns (angles in radians, logs of curvatures and lengths,
 /// α): 1e-6 is √ε times the relative accuracy of the evaluation (~1e-12), the step that
 /// balances truncation against rounding.
@@ -683,6 +688,8 @@ struct Solver<'a> {
     /// While refitting for the largest distance ([`minimax`]): the tolerance, at which the fit
     /// stops as soon as every sample is within it.
     goal: Option<f64>,
+    /// The part's tolerance (see [`WITHIN_DECREASE`]).
+    tolerance: f64,
 }
 
 impl Solver<'_> {
@@ -1082,6 +1089,7 @@ fn smooth_from(
             / END_TOLERANCE,
         weights: Vec::new(),
         goal: None,
+        tolerance: smooth.tolerance,
     };
     layout.clamp(&mut x, solver.log_kappa);
     let (mut best_worst, mut stalled) = (f64::INFINITY, 0);
@@ -2393,9 +2401,12 @@ fn levenberg_marquardt(
         {
             break;
         }
+        let before_assign = assign.to_vec();
         if reassign(solver, &e.segments, assign) {
-            *e = solver.evaluate(e.segments.clone(), assign, None);
-        } else if decrease <= RELATIVE_DECREASE * before {
+            *e = solver.evaluate(e.segments.clone(), assign, Some((&*e, &before_assign)));
+        } else if decrease <= RELATIVE_DECREASE * before
+            || (decrease <= WITHIN_DECREASE * before && largest_distance(e) <= solver.tolerance)
+        {
             break;
         }
     }
