@@ -2307,87 +2307,115 @@ fn levenberg_marquardt(
         let floor = DIAGONAL_FLOOR * a.diagonal().max().max(f64::MIN_POSITIVE);
         // An unknown on its bound that the descent direction pushes beyond it is held there
         // (an active set): clamped after the step instead, it bends every step the model
-        // predicts, and the damping rises until the steps are too short to matter.
+        // predicts, and the damping rises until the steps are too short to matter. So is one
+        // that the step itself pushes beyond (the joint equations can ask it of an unknown the
+        // gradient alone would not move there: a stroke's end curvature on the cap, clamped
+        // back from each trial, left the model eight times too hopeful, ρ ≈ 0.1, for ten
+        // steps); the step is then solved again.
         let mut jc = jc;
+        let mut held = vec![false; m];
+        let hold = |i: usize,
+                    held: &mut [bool],
+                    a: &mut DMatrix<f64>,
+                    g: &mut DVector<f64>,
+                    jc: &mut DMatrix<f64>| {
+            held[i] = true;
+            a.row_mut(i).fill(0.0);
+            a.column_mut(i).fill(0.0);
+            a[(i, i)] = floor.max(1.0);
+            g[i] = 0.0;
+            jc.column_mut(i).fill(0.0);
+        };
         for (i, &var) in vars.iter().enumerate() {
             if layout.pushed_beyond(var, x, -g[i], solver.log_kappa) {
-                a.row_mut(i).fill(0.0);
-                a.column_mut(i).fill(0.0);
-                a[(i, i)] = floor.max(1.0);
-                g[i] = 0.0;
-                jc.column_mut(i).fill(0.0);
+                hold(i, &mut held, &mut a, &mut g, &mut jc);
             }
-        }
-        // The KKT system [A + λD, Jcᵀ; Jc, 0] in the band order, as its nonzero entries.
-        let mut entries = Vec::new();
-        for j in 0..m {
-            for i in 0..m {
-                if a[(i, j)] != 0.0 || i == j {
-                    entries.push((position[i], position[j], a[(i, j)]));
-                }
-            }
-            for r in 0..nc {
-                if jc[(r, j)] != 0.0 {
-                    entries.push((position[m + r], position[j], jc[(r, j)]));
-                    entries.push((position[j], position[m + r], jc[(r, j)]));
-                }
-            }
-        }
-        let (lower, upper) = entries.iter().fold((0, 0), |(l, u), &(i, j, _)| {
-            (l.max(i.saturating_sub(j)), u.max(j.saturating_sub(i)))
-        });
-        let mut rhs = vec![0.0; m + nc];
-        for i in 0..m {
-            rhs[position[i]] = -g[i];
-        }
-        for r in 0..nc {
-            rhs[position[m + r]] = -c[r];
         }
         let mut accepted = None;
-        while lambda <= MAX_DAMPING {
-            let mut kkt = BandMatrix::zeros(m + nc, lower, upper);
-            for &(i, j, v) in &entries {
-                kkt.add(i, j, v);
+        'assemble: for _ in 0..=m {
+            // The KKT system [A + λD, Jcᵀ; Jc, 0] in the band order, as its nonzero entries.
+            let mut entries = Vec::new();
+            for j in 0..m {
+                for i in 0..m {
+                    if a[(i, j)] != 0.0 || i == j {
+                        entries.push((position[i], position[j], a[(i, j)]));
+                    }
+                }
+                for r in 0..nc {
+                    if jc[(r, j)] != 0.0 {
+                        entries.push((position[m + r], position[j], jc[(r, j)]));
+                        entries.push((position[j], position[m + r], jc[(r, j)]));
+                    }
+                }
             }
+            let (lower, upper) = entries.iter().fold((0, 0), |(l, u), &(i, j, _)| {
+                (l.max(i.saturating_sub(j)), u.max(j.saturating_sub(i)))
+            });
+            let mut rhs = vec![0.0; m + nc];
             for i in 0..m {
-                kkt.add(position[i], position[i], lambda * a[(i, i)].max(floor));
+                rhs[position[i]] = -g[i];
             }
-            let Some(solution) = kkt.solve(&rhs) else {
+            for r in 0..nc {
+                rhs[position[m + r]] = -c[r];
+            }
+            while lambda <= MAX_DAMPING {
+                let mut kkt = BandMatrix::zeros(m + nc, lower, upper);
+                for &(i, j, v) in &entries {
+                    kkt.add(i, j, v);
+                }
+                for i in 0..m {
+                    kkt.add(position[i], position[i], lambda * a[(i, i)].max(floor));
+                }
+                let Some(solution) = kkt.solve(&rhs) else {
+                    lambda *= growth;
+                    growth *= 2.0;
+                    continue;
+                };
+                let delta = DVector::from_iterator(m, (0..m).map(|i| solution[position[i]]));
+                let beyond: Vec<usize> = (0..m)
+                    .filter(|&i| {
+                        !held[i] && layout.pushed_beyond(vars[i], x, delta[i], solver.log_kappa)
+                    })
+                    .collect();
+                if !beyond.is_empty() {
+                    for i in beyond {
+                        hold(i, &mut held, &mut a, &mut g, &mut jc);
+                    }
+                    continue 'assemble;
+                }
+                // The decrease of Σr² the Gauss–Newton model predicts for this step. Below the
+                // stopping fraction the step could not continue the solve even if it were
+                // accepted: converged (or damped to a standstill), without spending a
+                // projection.
+                let predicted = -(2.0 * g.dot(&delta) + delta.dot(&(&a * &delta)));
+                if !(predicted > RELATIVE_DECREASE * e.cost) {
+                    break;
+                }
+                let mut trial = moved(x, &vars, &delta);
+                let Some(segments) = project(
+                    Form::Shooting,
+                    solver,
+                    layout,
+                    &mut trial,
+                    &c3_joints,
+                    Some(&jc),
+                ) else {
+                    lambda *= growth;
+                    growth *= 2.0;
+                    continue;
+                };
+                let t = solver.evaluate(segments, assign, Some((e, assign)));
+                if t.cost < e.cost {
+                    let rho = ((e.cost - t.cost) / predicted).min(1.0);
+                    lambda *= (1.0 - (2.0 * rho - 1.0).powi(3)).max(1.0 / 3.0);
+                    growth = DAMPING_GROWTH;
+                    accepted = Some((trial, t));
+                    break;
+                }
                 lambda *= growth;
                 growth *= 2.0;
-                continue;
-            };
-            let delta = DVector::from_iterator(m, (0..m).map(|i| solution[position[i]]));
-            // The decrease of Σr² the Gauss–Newton model predicts for this step. Below the
-            // stopping fraction the step could not continue the solve even if it were
-            // accepted: converged (or damped to a standstill), without spending a projection.
-            let predicted = -(2.0 * g.dot(&delta) + delta.dot(&(&a * &delta)));
-            if !(predicted > RELATIVE_DECREASE * e.cost) {
-                break;
             }
-            let mut trial = moved(x, &vars, &delta);
-            let Some(segments) = project(
-                Form::Shooting,
-                solver,
-                layout,
-                &mut trial,
-                &c3_joints,
-                Some(&jc),
-            ) else {
-                lambda *= growth;
-                growth *= 2.0;
-                continue;
-            };
-            let t = solver.evaluate(segments, assign, Some((e, assign)));
-            if t.cost < e.cost {
-                let rho = ((e.cost - t.cost) / predicted).min(1.0);
-                lambda *= (1.0 - (2.0 * rho - 1.0).powi(3)).max(1.0 / 3.0);
-                growth = DAMPING_GROWTH;
-                accepted = Some((trial, t));
-                break;
-            }
-            lambda *= growth;
-            growth *= 2.0;
+            break;
         }
         let Some((trial, t)) = accepted else {
             break;
