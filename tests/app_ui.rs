@@ -479,8 +479,31 @@ fn clicking_a_segment_selects_it_and_delete_removes_its_stroke() {
         strokes,
         "a click draws nothing"
     );
-    // A click far from every segment clears the selection.
-    let away = on_screen(&harness, middle) + Vec2::new(0.0, 150.0);
+    // A click far from every segment clears the selection: of a few points 150 px around the
+    // segment's middle, the one farthest from the drawn chain (each segment sampled on screen).
+    let drawn: Vec<egui::Pos2> = harness
+        .state()
+        .scene()
+        .segments()
+        .flat_map(|(_, _, seg)| {
+            (0..=32).map(|i| seg.segment.point(seg.segment.length() * i as f64 / 32.0))
+        })
+        .collect::<Vec<_>>()
+        .into_iter()
+        .map(|p| on_screen(&harness, p))
+        .collect();
+    let clearance = |q: egui::Pos2| {
+        drawn
+            .iter()
+            .map(|p| p.distance(q))
+            .fold(f32::INFINITY, f32::min)
+    };
+    let away = [(0.0, 150.0), (0.0, -150.0), (150.0, 0.0), (-150.0, 0.0)]
+        .into_iter()
+        .map(|(x, y)| pos + Vec2::new(x, y))
+        .max_by(|a, b| clearance(*a).total_cmp(&clearance(*b)))
+        .expect("four candidates");
+    assert!(clearance(away) > 60.0, "{}", clearance(away));
     click_at(&mut harness, away);
     assert_eq!(harness.state().view.selection, None);
     // Select again, then delete the stroke with the button; undo brings it back.

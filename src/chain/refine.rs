@@ -195,6 +195,21 @@ fn touched(unknown: Unknown, segments: usize) -> std::ops::Range<usize> {
     }
 }
 
+/// Whether `unknown` is an α on an end of its range (within [`ALPHA_BOUND_SLACK`]) that a step
+/// of `delta` would push beyond it.
+fn pushes_beyond(state: &State<'_>, unknown: Unknown, delta: f64, options: &RefineOptions) -> bool {
+    let (Unknown::Alpha(k), Some((lo, hi))) = (unknown, options.alpha_range) else {
+        return false;
+    };
+    let alpha = state.alphas[k];
+    (delta > 0.0 && alpha >= hi - ALPHA_BOUND_SLACK)
+        || (delta < 0.0 && alpha <= lo + ALPHA_BOUND_SLACK)
+}
+
+/// An α within this of an end of its range is on it (α is dimensionless; the search's own
+/// resolution is far coarser).
+const ALPHA_BOUND_SLACK: f64 = 1e-9;
+
 fn add(state: &mut State<'_>, unknown: Unknown, delta: f64, options: &RefineOptions) {
     match unknown {
         Unknown::X(j) => state.joints[j].p.x += delta,
@@ -255,24 +270,36 @@ pub(crate) fn refine(
     let mut held: Vec<usize> = Vec::new();
     for _ in 0..options.max_iterations {
         let blocks = jacobian(state, &current, &unknowns, &ranges, options);
-        // JᵀJ (band) and Jᵀr, block by block.
-        let mut jtj = Band::zeros(unknowns.len(), width.saturating_sub(1));
-        let mut jtr = vec![0.0; unknowns.len()];
-        for ((block, range), e) in blocks.iter().zip(&ranges).zip(&current) {
-            let cols = range.len();
-            for (i, r) in e.residuals.iter().enumerate() {
-                let row = &block[i * cols..(i + 1) * cols];
-                for a in 0..cols {
-                    if row[a] == 0.0 {
-                        continue;
-                    }
-                    jtr[range.start + a] += row[a] * r;
-                    for b in 0..=a {
-                        jtj.add(range.start + a, range.start + b, row[a] * row[b]);
+        // JᵀJ (band) and Jᵀr, block by block, without the unknowns `pinned` (an α on the end
+        // of its range that the step pushes beyond: see below), which keep a unit diagonal and
+        // do not move.
+        let normal = |pinned: &[bool]| {
+            let mut jtj = Band::zeros(unknowns.len(), width.saturating_sub(1));
+            let mut jtr = vec![0.0; unknowns.len()];
+            for ((block, range), e) in blocks.iter().zip(&ranges).zip(&current) {
+                let cols = range.len();
+                for (i, r) in e.residuals.iter().enumerate() {
+                    let row = &block[i * cols..(i + 1) * cols];
+                    for a in 0..cols {
+                        if row[a] == 0.0 || pinned[range.start + a] {
+                            continue;
+                        }
+                        jtr[range.start + a] += row[a] * r;
+                        for b in 0..=a {
+                            if !pinned[range.start + b] {
+                                jtj.add(range.start + a, range.start + b, row[a] * row[b]);
+                            }
+                        }
                     }
                 }
             }
-        }
+            for (i, _) in pinned.iter().enumerate().filter(|(_, p)| **p) {
+                jtj.add(i, i, 1.0);
+            }
+            (jtj, jtr)
+        };
+        let mut pinned = vec![false; unknowns.len()];
+        let (mut jtj, mut jtr) = normal(&pinned);
         // Segments that left their drawable region in an earlier trial are held inside it,
         // linearised at this iterate.
         let mut edges: Vec<EdgeConstraint> = held
@@ -296,6 +323,20 @@ pub(crate) fn refine(
                 lambda *= 10.0;
                 continue;
             };
+            // An α on the end of its range that the step pushes beyond is held there and the
+            // step solved again: clamped after the step instead, it bends the step the model
+            // chose, and the trial fails or gains less than predicted.
+            let beyond: Vec<usize> = (0..unknowns.len())
+                .filter(|&c| !pinned[c] && pushes_beyond(state, unknowns[c], -delta[c], options))
+                .collect();
+            if !beyond.is_empty() {
+                for c in beyond {
+                    pinned[c] = true;
+                }
+                (jtj, jtr) = normal(&pinned);
+                tries -= 1;
+                continue;
+            }
             let mut trial = state.clone();
             for (c, &u) in unknowns.iter().enumerate() {
                 add(&mut trial, u, -delta[c], options);
