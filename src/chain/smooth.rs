@@ -685,9 +685,9 @@ struct Solver<'a> {
     /// Per sample, the weight of its squared distance in the fit's cost (empty: all 1; see
     /// [`MINIMAX_ROUNDS`]).
     weights: Vec<f64>,
-    /// While refitting for the largest distance ([`minimax`]): the tolerance, at which the fit
-    /// stops as soon as every sample is within it.
-    goal: Option<f64>,
+    /// Whether the fit is refitting for the largest distance ([`minimax`]): it then stops as
+    /// soon as every sample is within the tolerance.
+    minimax: bool,
     /// The part's tolerance (see [`WITHIN_DECREASE`]).
     tolerance: f64,
 }
@@ -1088,7 +1088,7 @@ fn smooth_from(
             .max(END_TOLERANCE)
             / END_TOLERANCE,
         weights: Vec::new(),
-        goal: None,
+        minimax: false,
         tolerance: smooth.tolerance,
     };
     layout.clamp(&mut x, solver.log_kappa);
@@ -1138,7 +1138,7 @@ fn smooth_from(
             // A near miss is first fitted for its largest distance rather than cut (see
             // [`MINIMAX_ROUNDS`]).
             && let Some((evaluation, assign)) =
-                minimax(&mut solver, &layout, &x, &assign, &evaluation, smooth.tolerance)
+                minimax(&mut solver, &layout, &x, &assign, &evaluation)
             && let Some(chain) = held(&evaluation, &assign, &distances(&evaluation))
         {
             return Ok(chain);
@@ -1265,7 +1265,7 @@ fn distances(e: &Evaluation) -> Vec<Vec<f64>> {
 /// iteration): each round multiplies every sample's weight by its distance (relative to the
 /// largest, at least [`LAWSON_FLOOR`]) and solves again from the last answer, which moves the
 /// chain towards the minimax fit of the same segments. The first round whose largest distance
-/// is within `tolerance` is returned with its assignment; `None` if none is within
+/// is within the tolerance is returned with its assignment; `None` if none is within
 /// [`MINIMAX_ROUNDS`]. The solver's weights are left uniform.
 fn minimax(
     solver: &mut Solver,
@@ -1273,11 +1273,10 @@ fn minimax(
     x: &Params,
     assign: &[Vec<usize>],
     evaluation: &Evaluation,
-    tolerance: f64,
 ) -> Option<(Evaluation, Vec<Vec<usize>>)> {
     let (mut x, mut assign) = (x.clone(), assign.to_vec());
     solver.weights = vec![1.0; solver.points.len()];
-    solver.goal = Some(tolerance);
+    solver.minimax = true;
     let mut found = None;
     let mut last: Option<Evaluation> = None;
     for _ in 0..MINIMAX_ROUNDS {
@@ -1303,14 +1302,14 @@ fn minimax(
         let Some(next) = solve(solver, layout, &mut x, &mut assign, Some((e, &before))) else {
             break;
         };
-        if largest_distance(&next) <= tolerance {
+        if largest_distance(&next) <= solver.tolerance {
             found = Some((next, assign));
             break;
         }
         last = Some(next);
     }
     solver.weights = Vec::new();
-    solver.goal = None;
+    solver.minimax = false;
     found
 }
 
@@ -1748,14 +1747,14 @@ fn distance_at_joint(solver: &Solver, segment: &LacSegment, q: Point, at_end: bo
 /// least one sample it had); true when any moved.
 fn reassign(solver: &Solver, segments: &[LacSegment], assign: &mut [Vec<usize>]) -> bool {
     let mut changed = false;
-    // The distances to the segment before the joint (its end) and after it (its start).
-    let distance = |k: usize, q: Point| distance_at_joint(solver, &segments[k], q, true);
-    let distance_after = |k: usize, q: Point| distance_at_joint(solver, &segments[k + 1], q, false);
+    // The distances to the segment before joint k + 1 (from its end) and after it (its start).
+    let before = |k: usize, q: Point| distance_at_joint(solver, &segments[k], q, true);
+    let after = |k: usize, q: Point| distance_at_joint(solver, &segments[k + 1], q, false);
     for k in 0..segments.len().saturating_sub(1) {
         while assign[k].len() > 1 {
             let Some(&i) = assign[k].last() else { break };
             let q = solver.points[i];
-            if distance_after(k, q) < distance(k, q) {
+            if after(k, q) < before(k, q) {
                 assign[k].pop();
                 assign[k + 1].insert(0, i);
                 changed = true;
@@ -1766,7 +1765,7 @@ fn reassign(solver: &Solver, segments: &[LacSegment], assign: &mut [Vec<usize>])
         while assign[k + 1].len() > 1 {
             let i = assign[k + 1][0];
             let q = solver.points[i];
-            if distance(k, q) < distance_after(k, q) {
+            if before(k, q) < after(k, q) {
                 assign[k + 1].remove(0);
                 assign[k].push(i);
                 changed = true;
@@ -1776,6 +1775,17 @@ fn reassign(solver: &Solver, segments: &[LacSegment], assign: &mut [Vec<usize>])
         }
     }
     changed
+}
+
+/// [`reassign`] at the chain of `e`, and `e` evaluated again where a sample moved (each segment
+/// that kept its samples from its old feet); true when any moved.
+fn reassigned(solver: &Solver, e: &mut Evaluation, assign: &mut [Vec<usize>]) -> bool {
+    let before = assign.to_vec();
+    if !reassign(solver, &e.segments, assign) {
+        return false;
+    }
+    *e = solver.evaluate(e.segments.clone(), assign, Some((&*e, &before)));
+    true
 }
 
 /// The normal equations JᵀJ and Jᵀr of the residuals of `e` with Jacobian `jr` (rows segment
@@ -2424,16 +2434,13 @@ fn levenberg_marquardt(
         let before = e.cost;
         *x = trial;
         *e = t;
-        if let Some(goal) = solver.goal
-            && largest_distance(e) <= goal
-        {
+        let within = largest_distance(e) <= solver.tolerance;
+        if solver.minimax && within {
             break;
         }
-        let before_assign = assign.to_vec();
-        if reassign(solver, &e.segments, assign) {
-            *e = solver.evaluate(e.segments.clone(), assign, Some((&*e, &before_assign)));
-        } else if decrease <= RELATIVE_DECREASE * before
-            || (decrease <= WITHIN_DECREASE * before && largest_distance(e) <= solver.tolerance)
+        if !reassigned(solver, e, assign)
+            && (decrease <= RELATIVE_DECREASE * before
+                || (decrease <= WITHIN_DECREASE * before && within))
         {
             break;
         }
@@ -2469,9 +2476,7 @@ fn solve(
         }
     };
     let mut e = solver.evaluate(segments, assign, near);
-    if reassign(solver, &e.segments, assign) {
-        e = solver.evaluate(e.segments.clone(), assign, None);
-    }
+    reassigned(solver, &mut e, assign);
     levenberg_marquardt(solver, layout, x, assign, &mut e)?;
     let (_, segments) = laid_forward(solver, layout, x, &c3_joints)?;
     // The forward chain is the solution's to the joints' gaps (a tenth of the tolerance): each
