@@ -37,7 +37,8 @@
 //! step would push beyond it is held; ordered along the chain, the system is banded and solved in
 //! time linear in the segments) and is projected back onto the constraints by least-norm
 //! Newton steps with the step's own constraint Jacobian (a chord method; a trial they do not
-//! bring onto the constraints is refused like one that raises the cost), so every iterate is a
+//! bring onto the constraints is projected again with fresh Jacobians, and refused like one that
+//! raises the cost where those fail too), so every iterate is a
 //! chain whose joints meet to a tenth of the tolerance (the answer's joints meet exactly once it
 //! is laid out forward). The Jacobian: a change of one unknown rebuilds its one or two
 //! segments, differenced at the samples' foot points (a pose's columns are those of a rigid
@@ -583,6 +584,19 @@ impl Layout {
         (1..self.n()).filter(|&j| self.sigma[j] != 0.0).collect()
     }
 
+    /// Whether segment k's α is an unknown in the log scale w = −ln(−α) (α = −e^{−w}) rather
+    /// than α itself: where the segment has a zero-curvature end (its α < 0 by its bounds).
+    /// There the curvature leaves zero as s^{−1/α}, the shape is a power of the exponent −1/α,
+    /// and a step in α moves it by 1/α² (25 times as much at α = −0.2 as at −1): a Gauss–Newton
+    /// step that fits at α = −1.4 overshoots by far at −0.3. In w a step is a factor of α; a
+    /// painting stroke's S whose α went from −1.35 to −0.2 in eight shrinking steps takes six.
+    /// (For every α ≤ [`ZERO_END_ALPHA`] the nine recorded fixture files gave 11 segments fewer
+    /// still, but a planted chain of three segments with a clothoid between two non-zero
+    /// curvatures came back as four.)
+    fn log_alpha(&self, x: &Params, k: usize) -> bool {
+        (self.sigma[k] == 0.0 || self.sigma[k + 1] == 0.0) && x.alpha[k] < 0.0
+    }
+
     /// Whether `var` sits on its bound in `x` with `direction` (the sign of a step) pointing
     /// beyond it.
     fn pushed_beyond(&self, var: Var, x: &Params, direction: f64, log_kappa: (f64, f64)) -> bool {
@@ -613,7 +627,7 @@ impl Layout {
     }
 }
 
-fn get(x: &Params, var: Var) -> f64 {
+fn get(layout: &Layout, x: &Params, var: Var) -> f64 {
     match var {
         Var::Theta0 => x.theta0,
         Var::X(k) => x.pose[k].0.x,
@@ -621,13 +635,14 @@ fn get(x: &Params, var: Var) -> f64 {
         Var::Angle(k) => x.pose[k].1,
         Var::Joint(j) => x.u[j],
         Var::Length(k) => x.v[k],
+        Var::Alpha(k) if layout.log_alpha(x, k) => -(-x.alpha[k]).ln(),
         Var::Alpha(k) => x.alpha[k],
         Var::StartShift => x.shift[0],
         Var::EndShift => x.shift[1],
     }
 }
 
-fn set(x: &mut Params, var: Var, value: f64) {
+fn set(layout: &Layout, x: &mut Params, var: Var, value: f64) {
     match var {
         Var::Theta0 => x.theta0 = value,
         Var::X(k) => x.pose[k].0.x = value,
@@ -635,6 +650,7 @@ fn set(x: &mut Params, var: Var, value: f64) {
         Var::Angle(k) => x.pose[k].1 = value,
         Var::Joint(j) => x.u[j] = value,
         Var::Length(k) => x.v[k] = value,
+        Var::Alpha(k) if layout.log_alpha(x, k) => x.alpha[k] = -(-value).exp(),
         Var::Alpha(k) => x.alpha[k] = value,
         Var::StartShift => {
             x.shift[0] = value;
@@ -1893,7 +1909,7 @@ fn forward_constraint_jacobian(
         }
         let (k0, k1) = layout.reach(var);
         let mut xp = x.clone();
-        set(&mut xp, var, get(x, var) + DIFFERENCE_STEP);
+        set(layout, &mut xp, var, get(layout, x, var) + DIFFERENCE_STEP);
         let new = layout.rebuild(&xp, segments, k0, k1).ok()?;
         let last = &new[k1 - k0];
         let old_end = segments[k1].end();
@@ -1963,7 +1979,7 @@ fn shooting_jacobian(
         }
         let (k0, k1) = layout.shooting_reach(var);
         let mut xp = x.clone();
-        set(&mut xp, var, get(x, var) + DIFFERENCE_STEP);
+        set(layout, &mut xp, var, get(layout, x, var) + DIFFERENCE_STEP);
         for k in k0..=k1 {
             // A pose moves its segment rigidly, each point by shift + turn·(P − Pₖ)^⊥ per unit
             // of the unknown: no construction, no integration, and exact.
@@ -2068,10 +2084,10 @@ fn constraint_jacobian(
 }
 
 /// `x` moved by `delta` over `vars`.
-fn moved(x: &Params, vars: &[Var], delta: &DVector<f64>) -> Params {
+fn moved(layout: &Layout, x: &Params, vars: &[Var], delta: &DVector<f64>) -> Params {
     let mut out = x.clone();
     for (i, &var) in vars.iter().enumerate() {
-        set(&mut out, var, get(x, var) + delta[i]);
+        set(layout, &mut out, var, get(layout, x, var) + delta[i]);
     }
     out
 }
@@ -2081,11 +2097,11 @@ fn moved(x: &Params, vars: &[Var], delta: &DVector<f64>) -> Params {
 ///
 /// With `chord`, the constraint Jacobian of the point a trial stepped from is used throughout (a
 /// chord method: a damped step away, it converges in two or three steps without differencing
-/// the chain again). Where it does not converge the trial is refused (`None`: the fit's damping
-/// grows and the next, shorter step is nearer the constraints) rather than projected with fresh
-/// Jacobians: those cost a construction per unknown each, and on the nine recorded fixture
-/// files in g2 the fit then took a third longer for more segments (915 against 896), no curve
-/// more made G2.
+/// the chain again). Where it does not converge, the fit projects the trial again without
+/// `chord` (fresh Jacobians, a construction per unknown each) before refusing it: on the nine
+/// recorded fixture files in g2 that gives 803 segments against 809 in the same time (with α in
+/// the log scale next to inflections, see `Layout::log_alpha`; before it, fresh projections
+/// took a third longer for more segments, 915 against 896, and trials were refused at once).
 fn project(
     form: Form,
     solver: &Solver,
@@ -2168,7 +2184,7 @@ fn project(
                     step
                 }
             };
-            *x = moved(x, &vars, &step);
+            *x = moved(layout, x, &vars, &step);
         }
         None
     };
@@ -2401,15 +2417,23 @@ fn levenberg_marquardt(
                 if !(predicted > RELATIVE_DECREASE * e.cost) {
                     break;
                 }
-                let mut trial = moved(x, &vars, &delta);
-                let Some(segments) = project(
+                let mut trial = moved(layout, x, &vars, &delta);
+                let stepped = trial.clone();
+                let projected = project(
                     Form::Shooting,
                     solver,
                     layout,
                     &mut trial,
                     &c3_joints,
                     Some(&jc),
-                ) else {
+                )
+                // Chord steps that do not reach the constraints: once more with fresh
+                // Jacobians before the step is refused (see [`project`]).
+                .or_else(|| {
+                    trial = stepped;
+                    project(Form::Shooting, solver, layout, &mut trial, &c3_joints, None)
+                });
+                let Some(segments) = projected else {
                     lambda *= growth;
                     growth *= 2.0;
                     continue;
