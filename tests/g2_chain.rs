@@ -11,7 +11,7 @@ use common::planted::{distance_to, jittered, planted, samples};
 use kansei::chain::{Chain, Continuity};
 use kansei::geom::{Point, Vec2};
 use kansei::lac::LacSegment;
-use kansei::pipeline::{PipelineOptions, fit_stroke};
+use kansei::pipeline::{PipelineOptions, StrokeOutcome, fit_stroke, fit_with_noise};
 use kansei::stroke::Stroke;
 
 /// Relative curvature jump accepted at a G2 joint: the joint's curvature is one parameter
@@ -291,4 +291,35 @@ fn every_recorded_stroke_in_g2_holds_its_tolerance_and_states_its_continuity() {
         curves > 0 && smooth_curves as f64 >= 0.95 * curves as f64,
         "{smooth_curves} of {curves} curves G2 throughout"
     );
+}
+
+#[test]
+fn a_start_hook_leaves_no_needle() {
+    // Stroke 16 of the recorded painting: the pen lands, moves 3 px one way and comes back along
+    // a near line. The chain starts at the reversal; the B-spline's end tangent there points
+    // back along the hook, and a segment kept to it turned 3 rad within its first 0.02 px
+    // (κ = 44.7 /px at a tolerance of 1 px). No segment may bend tighter than half a tolerance
+    // in radius to turn back into the line, in either mode.
+    let file = common::fixture("libmypaint-painting30sec");
+    let stroke = &file.strokes[16];
+    for continuity in [Continuity::G1, Continuity::G2] {
+        let mut options = PipelineOptions::default();
+        options.chain.continuity = continuity;
+        let StrokeOutcome::Curves(curves) = fit_with_noise(stroke, 16, file.units, &options) else {
+            panic!("curves");
+        };
+        for curve in curves {
+            let chain = curve.chain.expect("a chain");
+            assert!(chain.within_tolerance, "{continuity}");
+            for s in &chain.segments {
+                let bend = s.segment.kappa0().abs().max(s.segment.kappa1().abs());
+                assert!(
+                    bend <= 1.0 / (0.5 * curve.tolerance),
+                    "{continuity}: a segment of {} bends to κ = {bend} at tolerance {}",
+                    s.segment.length(),
+                    curve.tolerance
+                );
+            }
+        }
+    }
 }
