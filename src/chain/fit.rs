@@ -100,9 +100,9 @@ const REFINED_MERGE_FACTOR: f64 = 30.0;
 /// towards the arc's tangent): the first that removes the tight curl is kept, so the tangent
 /// moves no farther than it must, to an eighth of the turn. On the nine recorded fixture files
 /// in g2, segments bending tighter than half a tolerance: 14 with four steps towards the chord
-/// alone, 13 with the arc's tangent as well, 12 with eight steps (in g1: 27, 26, 24); a
-/// painting stroke's end hook, κ = 48 /px, still misses by a thirtieth of the tolerance at its
-/// best turn (the other end's tangent holds).
+/// alone, 13 with the arc's tangent as well, 12 with eight steps, 11 with both ends of a
+/// one-segment piece turned together (in g1: 27, 26, 24, 23; a painting stroke's end hook,
+/// κ = 48 /px, missed by a thirtieth of the tolerance at its best turn of one end alone).
 const SOFTEN_STEPS: usize = 8;
 
 /// Longest run of segments [`Fitter::merge_fewest`] tries to replace by one: past eight, a run
@@ -1260,7 +1260,8 @@ impl<'a> Fitter<'a> {
     /// tangent, which the segment started from, follows the last few samples' noise. The tangent
     /// is turned towards the segment's chord in steps ([`SOFTEN_STEPS`]), then towards the
     /// tangent of the circular arc through both ends that keeps the other end's (on a near line
-    /// the chord's tangent asks for an inflection no log-aesthetic segment has), and the first turn whose
+    /// the chord's tangent asks for an inflection no log-aesthetic segment has); a piece of one
+    /// segment also turns both its ends towards the chord together. The first turn whose
     /// segment (α searched again) stays within the bound and holds its samples within the
     /// tolerance is kept; nothing else moves. Returns whether any end was turned.
     fn soften_ends(&self, state: &mut State<'a>, searches: &mut [AlphaSearch]) -> bool {
@@ -1303,17 +1304,36 @@ impl<'a> Fitter<'a> {
             let arc = chord_angle + crate::geom::wrap_angle(chord_angle - other);
             let points: Vec<Point> = state.points_of(k);
             let turns = [chord_angle, arc].map(|target| crate::geom::wrap_angle(target - from));
-            let steps = turns.iter().flat_map(|&turn| {
-                (1..=SOFTEN_STEPS).map(move |step| turn * step as f64 / SOFTEN_STEPS as f64)
-            });
-            for turn in steps {
-                let mut turned = state.joints[j];
-                turned.angle = from + turn;
-                let (ta, tb) = if at_start {
-                    (turned, state.joints[k + 1])
-                } else {
-                    (state.joints[k], turned)
-                };
+            let fraction = |step: usize| step as f64 / SOFTEN_STEPS as f64;
+            // The segment's (start, end) tangent angles to try, in order.
+            let mut tries: Vec<(f64, f64)> = turns
+                .iter()
+                .flat_map(|&turn| {
+                    (1..=SOFTEN_STEPS).map(move |step| {
+                        let angle = from + turn * fraction(step);
+                        if at_start {
+                            (angle, b.angle)
+                        } else {
+                            (a.angle, angle)
+                        }
+                    })
+                })
+                .collect();
+            // A piece of one segment is free at both ends: where turning this end alone is not
+            // enough (the other end's tangent holds a curl the samples do not make), both turn
+            // towards the chord together, a line at the last step.
+            if n == 1 {
+                let towards = |angle: f64| crate::geom::wrap_angle(chord_angle - angle);
+                let (turn_a, turn_b) = (towards(a.angle), towards(b.angle));
+                tries.extend((1..=SOFTEN_STEPS).map(|step| {
+                    let f = fraction(step);
+                    (a.angle + turn_a * f, b.angle + turn_b * f)
+                }));
+            }
+            for (start_angle, end_angle) in tries {
+                let (mut ta, mut tb) = (state.joints[k], state.joints[k + 1]);
+                ta.angle = start_angle;
+                tb.angle = end_angle;
                 let Ok(fit) = fit_span(
                     ta.p,
                     ta.tangent(),
@@ -1330,10 +1350,11 @@ impl<'a> Fitter<'a> {
                 if fit.deviation.max > self.tolerance || !within(&fit.segment, cap) {
                     continue;
                 }
-                // Only segment k uses this end joint: set it, and keep it if the state's own
-                // measure of the segment agrees (it takes the search's, remembered).
-                let kept = (state.joints[j], state.alphas[k]);
-                state.joints[j] = turned;
+                // Only segment k uses a joint that turns (an end of the piece): set them, and
+                // keep them if the state's own measure of the segment agrees (it takes the
+                // search's, remembered).
+                let kept = (state.joints[k], state.joints[k + 1], state.alphas[k]);
+                (state.joints[k], state.joints[k + 1]) = (ta, tb);
                 state.alphas[k] = fit.segment.alpha().unwrap_or(self.options.alpha.middle());
                 state.remember(k, fit.segment, fit.deviation, self.chord_error);
                 if matches!(state.evaluate(k, self.chord_error), Ok(e) if e.max <= self.tolerance) {
@@ -1341,7 +1362,7 @@ impl<'a> Fitter<'a> {
                     changed = true;
                     break;
                 }
-                (state.joints[j], state.alphas[k]) = kept;
+                (state.joints[k], state.joints[k + 1], state.alphas[k]) = kept;
             }
         }
         changed
