@@ -883,10 +883,14 @@ pub(crate) fn smooth_chain(smooth: &SmoothInput) -> Option<Chain> {
     let mut out: Vec<ChainSegment> = Vec::with_capacity(segments.len());
     let mut max_deviation: f64 = 0.0;
     let mut all_smooth = true;
+    // Whether some part had joints to make smooth: otherwise every segment is the G1 chain's,
+    // holding the same samples, and so is the chain's largest distance.
+    let mut refitted = false;
     let mut from = 0;
     let mut next = 0;
     while next < cuts.len() {
         let to = cuts[next];
+        refitted |= to - from > 1;
         let mut part = Chain {
             segments: segments[from..to].to_vec(),
             max_deviation: chain.max_deviation,
@@ -954,6 +958,13 @@ pub(crate) fn smooth_chain(smooth: &SmoothInput) -> Option<Chain> {
         .zip(tile_ranges(&starts, smooth.input.samples))
     {
         s.samples = range;
+    }
+    if !refitted {
+        return Some(Chain {
+            segments: out,
+            continuity: smooth.continuity,
+            ..chain.clone()
+        });
     }
     // The whole chain's largest distance, each sample to its nearest segment: a part kept G1
     // carries the whole G1 chain's figure, and a sample may lie nearer a neighbouring part.
@@ -2580,7 +2591,13 @@ fn finish(
                 rms_deviation: rms,
                 search: smooth.chain.segments[layout.origin[k]].search.clone(),
                 alpha_bound: super::AlphaBound::of(e.segments[k].alpha(), smooth.alpha),
-                alpha_uncertainty: smooth_alpha_uncertainty(smooth, &e.segments[k], &assign[k], r),
+                alpha_uncertainty: smooth_alpha_uncertainty(
+                    smooth,
+                    &e.segments[k],
+                    &assign[k],
+                    r,
+                    &e.feet[k],
+                ),
                 start: layout.kinds[k],
                 end: if k + 1 < n {
                     layout.kinds[k + 1]
@@ -2611,6 +2628,7 @@ fn smooth_alpha_uncertainty(
     segment: &LacSegment,
     samples: &[usize],
     residuals: &[f64],
+    feet: &[f64],
 ) -> Option<f64> {
     let alpha = segment.alpha()?;
     if matches!(smooth.alpha, AlphaChoice::Fixed(_)) {
@@ -2628,7 +2646,12 @@ fn smooth_alpha_uncertainty(
             Some(segment),
         )
         .ok()?;
-        let d = crate::lac::deviation(&probe, &points, smooth.chord_error);
+        // The probe is the segment a step of α away: its feet are polished from the
+        // segment's own (scaled to its length), searched afresh only where that fails.
+        let ratio = probe.length() / segment.length();
+        let seeds: Vec<f64> = feet.iter().map(|s| s * ratio).collect();
+        let d = deviation_near(&probe, &points, &seeds)
+            .unwrap_or_else(|| crate::lac::deviation(&probe, &points, smooth.chord_error));
         Some(
             d.distances
                 .iter()
