@@ -96,14 +96,14 @@ fn removable(kind: JointKind) -> bool {
 /// default tolerance 30 merges as many runs as 100 (730 segments), 10 six fewer, 5 nine fewer.
 const REFINED_MERGE_FACTOR: f64 = 30.0;
 
-/// Steps in which [`Fitter::soften_ends`] turns an end tangent towards the chord (and then
-/// towards the arc's tangent): the first that removes the tight curl is kept, so the tangent
-/// moves no farther than it must, to an eighth of the turn. On the nine recorded fixture files
-/// in g2, segments bending tighter than half a tolerance: 14 with four steps towards the chord
-/// alone, 13 with the arc's tangent as well, 12 with eight steps, 11 with both ends of a
-/// one-segment piece turned together (in g1: 27, 26, 24, 23; a painting stroke's end hook,
-/// κ = 48 /px, missed by a thirtieth of the tolerance at its best turn of one end alone).
-const SOFTEN_STEPS: usize = 8;
+/// Steps in which [`Fitter::soften_ends`] turns an end tangent towards the chord (then towards
+/// the arc's tangent, and for a piece of one segment both ends together): the first that removes
+/// the tight curl is kept, so the tangent moves no farther than it must, to a quarter of the
+/// turn. On the nine recorded fixture files in g2, segments bending tighter than half a
+/// tolerance: 14 turning towards the chord alone, 11 with all three (in g1: 27, 24). Eight steps
+/// give the same 11 (23 in g1) for 8 % more time in the painting's G1 chains, where each
+/// failing try is an α search.
+const SOFTEN_STEPS: usize = 4;
 
 /// Longest run of segments [`Fitter::merge_fewest`] tries to replace by one: past eight, a run
 /// that the greedy merges and the cuts left apart is as good as never one segment, and every run
