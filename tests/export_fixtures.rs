@@ -179,9 +179,24 @@ fn svg_paths_lie_within_the_accuracy_of_the_chain() {
                             // written as that chord, and says so.)
                             let stated = parse_attr(e, "error");
                             assert!(stated <= 1e-3 * accuracy);
+                            // A command starts where the one before it ended: where the
+                            // chain's joint has a gap (two parts of a smooth chain meet at a
+                            // corner to the joint equations' tolerance, 1e-10 of the extent;
+                            // up to 2e-9 px on the painting) the line moves by the gap, and the
+                            // arc of the segment's radius through the moved start by up to the
+                            // gap times 1 + 2r/d (its centre moves across the chord d).
+                            let gap = mine
+                                .first()
+                                .map_or(0.0, |p| p.start().distance(seg.start()));
+                            let lever = match seg.kappa0().abs() {
+                                k if letter == "A" && k > 0.0 => {
+                                    1.0 + 2.0 / (k * seg.start().distance(seg.end()))
+                                }
+                                _ => 1.0,
+                            };
                             assert!(
-                                error <= stated + 1e-9 * seg.length().max(1.0),
-                                "{name}: {letter} {error} {seg:?} {mine:?}"
+                                error <= stated + 1e-9 * seg.length().max(1.0) + gap * lever,
+                                "{name}: {letter} {error} (gap {gap}) {seg:?} {mine:?}"
                             );
                             if letter == "A" {
                                 tally.arcs += 1;

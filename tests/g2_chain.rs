@@ -293,6 +293,34 @@ fn every_recorded_stroke_in_g2_holds_its_tolerance_and_states_its_continuity() {
     );
 }
 
+/// Asserts that no segment of `stroke` of the fixture file `name`, fitted with the defaults in
+/// each of `modes`, bends tighter than half its tolerance in radius.
+fn assert_no_needle(name: &str, stroke: usize, modes: &[Continuity]) {
+    let file = common::fixture(name);
+    for &continuity in modes {
+        let mut options = PipelineOptions::default();
+        options.chain.continuity = continuity;
+        let StrokeOutcome::Curves(curves) =
+            fit_with_noise(&file.strokes[stroke], stroke, file.units, &options)
+        else {
+            panic!("curves");
+        };
+        for curve in curves {
+            let chain = curve.chain.expect("a chain");
+            assert!(chain.within_tolerance, "{name} {continuity}");
+            for s in &chain.segments {
+                let bend = s.segment.kappa0().abs().max(s.segment.kappa1().abs());
+                assert!(
+                    bend <= 1.0 / (0.5 * curve.tolerance),
+                    "{name} {continuity}: a segment of {} bends to κ = {bend} at tolerance {}",
+                    s.segment.length(),
+                    curve.tolerance
+                );
+            }
+        }
+    }
+}
+
 #[test]
 fn a_start_hook_leaves_no_needle() {
     // Stroke 16 of the recorded painting: the pen lands, moves 3 px one way and comes back along
@@ -300,26 +328,18 @@ fn a_start_hook_leaves_no_needle() {
     // back along the hook, and a segment kept to it turned 3 rad within its first 0.02 px
     // (κ = 44.7 /px at a tolerance of 1 px). No segment may bend tighter than half a tolerance
     // in radius to turn back into the line, in either mode.
-    let file = common::fixture("libmypaint-painting30sec");
-    let stroke = &file.strokes[16];
-    for continuity in [Continuity::G1, Continuity::G2] {
-        let mut options = PipelineOptions::default();
-        options.chain.continuity = continuity;
-        let StrokeOutcome::Curves(curves) = fit_with_noise(stroke, 16, file.units, &options) else {
-            panic!("curves");
-        };
-        for curve in curves {
-            let chain = curve.chain.expect("a chain");
-            assert!(chain.within_tolerance, "{continuity}");
-            for s in &chain.segments {
-                let bend = s.segment.kappa0().abs().max(s.segment.kappa1().abs());
-                assert!(
-                    bend <= 1.0 / (0.5 * curve.tolerance),
-                    "{continuity}: a segment of {} bends to κ = {bend} at tolerance {}",
-                    s.segment.length(),
-                    curve.tolerance
-                );
-            }
-        }
-    }
+    assert_no_needle(
+        "libmypaint-painting30sec",
+        16,
+        &[Continuity::G1, Continuity::G2],
+    );
+}
+
+#[test]
+fn a_segment_between_corners_of_the_smooth_chain_leaves_no_needle() {
+    // The perfect-freehand "he": where the G1 chain bends beyond the bound the smooth chain
+    // makes a corner, and the segment between two such corners kept the G1 chain's tangents,
+    // one of them curling to κ = 41 /px at a tolerance of 1.08 px. Both its tangents are free
+    // (a corner is G0): turned, it holds its samples within the bound.
+    assert_no_needle("perfect-freehand-he2", 0, &[Continuity::G2]);
 }

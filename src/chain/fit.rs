@@ -379,6 +379,55 @@ fn changed_and_neighbours(state: &State<'_>, settled: &FxHashSet<SegmentKey>) ->
         .collect()
 }
 
+/// The (start, end) tangent angles to try, in order, for a segment from `a` to `b` (each a point
+/// and its tangent angle) whose start (`at_start`) or end curls tighter than its samples resolve
+/// (see [`Fitter::soften_ends`]): that end turned towards the chord in [`SOFTEN_STEPS`] steps,
+/// then towards the tangent of the circular arc through both ends that keeps the other end's
+/// (its mirror image in the chord); and, where both ends are free (`both`), both towards the
+/// chord together, a line at the last step. Towards the chord first: a segment whose other
+/// tangent lies off the chord cannot leave along it (a log-aesthetic segment has no inflection),
+/// and on a near line only the arc's tangent gives a segment at all (a painting stroke's start
+/// hook, κ = 44.7 /px at a tolerance of 1 px, turned 3 rad in its first 0.02 px).
+pub(super) fn soften_tries(
+    (a, a_angle): (Point, f64),
+    (b, b_angle): (Point, f64),
+    at_start: bool,
+    both: bool,
+) -> Vec<(f64, f64)> {
+    let chord = b - a;
+    let chord_angle = chord.y.atan2(chord.x);
+    let towards = |angle: f64| crate::geom::wrap_angle(chord_angle - angle);
+    let (from, other) = if at_start {
+        (a_angle, b_angle)
+    } else {
+        (b_angle, a_angle)
+    };
+    let arc = chord_angle + towards(other);
+    let fraction = |step: usize| step as f64 / SOFTEN_STEPS as f64;
+    let mut tries: Vec<(f64, f64)> = [chord_angle, arc]
+        .iter()
+        .map(|&target| crate::geom::wrap_angle(target - from))
+        .flat_map(|turn| {
+            (1..=SOFTEN_STEPS).map(move |step| {
+                let angle = from + turn * fraction(step);
+                if at_start {
+                    (angle, b_angle)
+                } else {
+                    (a_angle, angle)
+                }
+            })
+        })
+        .collect();
+    if both {
+        let (turn_a, turn_b) = (towards(a_angle), towards(b_angle));
+        tries.extend((1..=SOFTEN_STEPS).map(|step| {
+            let f = fraction(step);
+            (a_angle + turn_a * f, b_angle + turn_b * f)
+        }));
+    }
+    tries
+}
+
 /// What [`Fitter::search`] found.
 struct Searched {
     /// The α (the range's middle for an arc or a line).
@@ -1291,45 +1340,8 @@ impl<'a> Fitter<'a> {
                 continue;
             }
             let (a, b) = (state.joints[k], state.joints[k + 1]);
-            let chord = b.p - a.p;
-            let chord_angle = chord.y.atan2(chord.x);
-            let from = state.joints[j].angle;
-            // The segment's other end keeps its tangent; the circular arc through both ends
-            // with that tangent leaves this end at its mirror image in the chord. Turning
-            // towards the chord first: a segment whose other tangent lies off the chord cannot
-            // leave along it (a log-aesthetic segment has no inflection), and on a near line
-            // only the arc's tangent gives a segment at all (a painting stroke's start hook,
-            // κ = 44.7 /px at a tolerance of 1 px, turned 3 rad in its first 0.02 px).
-            let other = if at_start { b.angle } else { a.angle };
-            let arc = chord_angle + crate::geom::wrap_angle(chord_angle - other);
             let points: Vec<Point> = state.points_of(k);
-            let turns = [chord_angle, arc].map(|target| crate::geom::wrap_angle(target - from));
-            let fraction = |step: usize| step as f64 / SOFTEN_STEPS as f64;
-            // The segment's (start, end) tangent angles to try, in order.
-            let mut tries: Vec<(f64, f64)> = turns
-                .iter()
-                .flat_map(|&turn| {
-                    (1..=SOFTEN_STEPS).map(move |step| {
-                        let angle = from + turn * fraction(step);
-                        if at_start {
-                            (angle, b.angle)
-                        } else {
-                            (a.angle, angle)
-                        }
-                    })
-                })
-                .collect();
-            // A piece of one segment is free at both ends: where turning this end alone is not
-            // enough (the other end's tangent holds a curl the samples do not make), both turn
-            // towards the chord together, a line at the last step.
-            if n == 1 {
-                let towards = |angle: f64| crate::geom::wrap_angle(chord_angle - angle);
-                let (turn_a, turn_b) = (towards(a.angle), towards(b.angle));
-                tries.extend((1..=SOFTEN_STEPS).map(|step| {
-                    let f = fraction(step);
-                    (a.angle + turn_a * f, b.angle + turn_b * f)
-                }));
-            }
+            let tries = soften_tries((a.p, a.angle), (b.p, b.angle), at_start, n == 1);
             for (start_angle, end_angle) in tries {
                 let (mut ta, mut tb) = (state.joints[k], state.joints[k + 1]);
                 ta.angle = start_angle;

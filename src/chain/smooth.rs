@@ -86,7 +86,10 @@
 //! again from other joint curvatures first never found a smooth chain there, and took a third
 //! of the painting's smooth fit). And where a part fails whose first (last) segment leaves its corner
 //! bending beyond the bound (a hook at a corner, κ = 12 /px on painting strokes), that segment's
-//! other joint becomes a corner and it stays as the G1 chain has it. A least-squares chain that
+//! other joint becomes a corner and it stays as the G1 chain has it, but for its tangents: a
+//! segment between two corners has both free (a corner is G0), and where the G1 chain's curl
+//! beyond the bound they are turned as the G1 chain's piece ends are (`soften_isolated`; on the
+//! nine recorded fixture files 11 → 5 segments bending beyond it). A least-squares chain that
 //! misses the tolerance by a little is first refitted towards the minimax fit of the same
 //! segments (Lawson's reweighting, a few rounds). When the solved chain still leaves a
 //! sample farther than the tolerance from its nearest segment, every segment that misses is cut
@@ -98,9 +101,12 @@
 
 use super::band::{Band, BandCholesky};
 use super::band_lu::BandMatrix;
-use super::fit::{Chain, ChainInput, ChainSegment, JointKind, nearest_deviation, tile_ranges};
+use super::fit::{
+    Chain, ChainInput, ChainSegment, JointKind, nearest_deviation, soften_tries, tile_ranges,
+};
 use crate::bspline::project::Pieces;
 use crate::geom::{Point, Vec2};
+use crate::lac::alpha_search::{SpanFitOptions, fit_span};
 use crate::lac::deviation::{deviation, deviation_near};
 use crate::lac::{AlphaChoice, LacError, LacSegment};
 use nalgebra::{DMatrix, DVector};
@@ -950,6 +956,12 @@ pub(crate) fn smooth_chain(smooth: &SmoothInput) -> Option<Chain> {
     if cuts.len() == 1 && !all_smooth {
         return None;
     }
+    // A segment between two corners (or a corner and the stroke's end) has both tangents free,
+    // but kept the G1 chain's, which curl where the G1 joint bent beyond the bound: its ends are
+    // turned as the G1 chain's piece ends are (see [`soften_tries`]).
+    for segment in &mut out {
+        refitted |= soften_isolated(smooth, segment, cap);
+    }
     // The parts' ranges tiled as one piece: a segment holding no samples has the one-sample
     // range of the last sample before it, also at the start of a part.
     let starts: Vec<Option<usize>> = out.iter().map(|s| s.params.map(|_| s.samples.0)).collect();
@@ -998,6 +1010,75 @@ pub(crate) fn smooth_chain(smooth: &SmoothInput) -> Option<Chain> {
             Continuity::G1
         },
     })
+}
+
+/// Refits `s` with turned end tangents where both its ends are free (corners, or the stroke's
+/// own ends) and one of them bends beyond `cap`: the first of [`soften_tries`] whose segment
+/// (α searched again, within `cap`) holds its samples within the tolerance. Returns whether it
+/// was refitted.
+fn soften_isolated(smooth: &SmoothInput, s: &mut ChainSegment, cap: f64) -> bool {
+    let free =
+        |kind: JointKind| matches!(kind, JointKind::Corner | JointKind::Start | JointKind::End);
+    let bend = |seg: &LacSegment| seg.kappa0().abs().max(seg.kappa1().abs());
+    let segment = s.segment;
+    if !(free(s.start) && free(s.end)) || bend(&segment) <= cap || s.params.is_none() {
+        return false;
+    }
+    let input = smooth.input;
+    let list: Vec<usize> = (0..input.points.len())
+        .filter(|&i| (s.samples.0..=s.samples.1).contains(&input.indices[i]))
+        .collect();
+    if list.is_empty() {
+        return false;
+    }
+    let points: Vec<Point> = list.iter().map(|&i| input.points[i]).collect();
+    let options = SpanFitOptions {
+        choice: smooth.alpha,
+        max_curvature: cap,
+        guess: segment.alpha(),
+        // Only a segment within the tolerance is kept: a guess farther off is not searched on.
+        abandon_above: smooth.tolerance,
+        unreachable_above: smooth.tolerance,
+        ..SpanFitOptions::new(smooth.chord_error)
+    };
+    let at_start = segment.kappa0().abs() >= segment.kappa1().abs();
+    let (a, b) = (
+        (segment.start(), segment.theta0()),
+        (segment.end(), segment.theta1()),
+    );
+    let tangent = |angle: f64| Vec2::new(angle.cos(), angle.sin());
+    for (start_angle, end_angle) in soften_tries(a, b, at_start, true) {
+        let Ok(fit) = fit_span(
+            a.0,
+            tangent(start_angle),
+            b.0,
+            tangent(end_angle),
+            &points,
+            &options,
+        ) else {
+            continue;
+        };
+        if fit.deviation.max > smooth.tolerance || bend(&fit.segment) > cap {
+            continue;
+        }
+        let d = &fit.deviation;
+        let residuals: Vec<f64> = d
+            .distances
+            .iter()
+            .zip(&d.sides)
+            .map(|(r, side)| r * side)
+            .collect();
+        let rms = (residuals.iter().map(|r| r * r).sum::<f64>() / residuals.len() as f64).sqrt();
+        s.alpha_uncertainty =
+            smooth_alpha_uncertainty(smooth, &fit.segment, &list, &residuals, &d.feet);
+        s.alpha_bound = super::AlphaBound::of(fit.segment.alpha(), smooth.alpha);
+        s.segment = fit.segment;
+        s.max_deviation = d.max;
+        s.rms_deviation = rms;
+        s.search = fit.search;
+        return true;
+    }
+    false
 }
 
 /// The largest curvature a smooth chain of these samples may have at a joint (see
