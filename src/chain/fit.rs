@@ -161,6 +161,14 @@ pub enum JointKind {
     Subdivision,
 }
 
+impl JointKind {
+    /// Whether the tangent on either side of the joint is its segment's own (G0): a start, an
+    /// end or a corner.
+    pub fn tangent_free(self) -> bool {
+        matches!(self, JointKind::Start | JointKind::End | JointKind::Corner)
+    }
+}
+
 impl From<SplitKind> for JointKind {
     fn from(k: SplitKind) -> Self {
         match k {
@@ -1322,10 +1330,7 @@ impl<'a> Fitter<'a> {
         let mut changed = false;
         // (segment, joint at the end that may turn, whether that is its start)
         for (k, j, at_start) in [(0, 0, true), (n - 1, n, false)] {
-            if !matches!(
-                state.joints[j].kind,
-                JointKind::Corner | JointKind::Start | JointKind::End
-            ) {
+            if !state.joints[j].kind.tangent_free() {
                 continue;
             }
             let Ok(segment) = state.segment(k) else {
@@ -1343,7 +1348,7 @@ impl<'a> Fitter<'a> {
             let points: Vec<Point> = state.points_of(k);
             let tries = soften_tries((a.p, a.angle), (b.p, b.angle), at_start, n == 1);
             for (start_angle, end_angle) in tries {
-                let (mut ta, mut tb) = (state.joints[k], state.joints[k + 1]);
+                let (mut ta, mut tb) = (a, b);
                 ta.angle = start_angle;
                 tb.angle = end_angle;
                 let Ok(fit) = fit_span(

@@ -745,15 +745,15 @@ impl Solver<'_> {
         for (k, list) in assign.iter().enumerate() {
             let seg = &e.segments[k];
             let pts = self.points_of(list);
-            let seeded = near.and_then(|(old, old_assign)| {
-                if old_assign.get(k)? != list {
-                    return None;
-                }
-                let ratio = seg.length() / old.segments[k].length();
-                let seeds: Vec<f64> = old.feet[k].iter().map(|s| s * ratio).collect();
-                deviation_near(seg, &pts, &seeds)
-            });
-            let mut d = seeded.unwrap_or_else(|| deviation(seg, &pts, self.chord_error));
+            let mut d = match near {
+                Some((old, old_assign)) if old_assign.get(k) == Some(list) => deviation_from(
+                    seg,
+                    &pts,
+                    (&old.feet[k], old.segments[k].length()),
+                    self.chord_error,
+                ),
+                _ => deviation(seg, &pts, self.chord_error),
+            };
             let foot_points = if d.foot_points.len() == pts.len() {
                 std::mem::take(&mut d.foot_points)
             } else {
@@ -1017,11 +1017,12 @@ pub(crate) fn smooth_chain(smooth: &SmoothInput) -> Option<Chain> {
 /// (α searched again, within `cap`) holds its samples within the tolerance. Returns whether it
 /// was refitted.
 fn soften_isolated(smooth: &SmoothInput, s: &mut ChainSegment, cap: f64) -> bool {
-    let free =
-        |kind: JointKind| matches!(kind, JointKind::Corner | JointKind::Start | JointKind::End);
     let bend = |seg: &LacSegment| seg.kappa0().abs().max(seg.kappa1().abs());
     let segment = s.segment;
-    if !(free(s.start) && free(s.end)) || bend(&segment) <= cap || s.params.is_none() {
+    if !(s.start.tangent_free() && s.end.tangent_free())
+        || bend(&segment) <= cap
+        || s.params.is_none()
+    {
         return false;
     }
     let input = smooth.input;
@@ -1062,19 +1063,12 @@ fn soften_isolated(smooth: &SmoothInput, s: &mut ChainSegment, cap: f64) -> bool
             continue;
         }
         let d = &fit.deviation;
-        let residuals: Vec<f64> = d
-            .distances
-            .iter()
-            .zip(&d.sides)
-            .map(|(r, side)| r * side)
-            .collect();
-        let rms = (residuals.iter().map(|r| r * r).sum::<f64>() / residuals.len() as f64).sqrt();
         s.alpha_uncertainty =
-            smooth_alpha_uncertainty(smooth, &fit.segment, &list, &residuals, &d.feet);
+            smooth_alpha_uncertainty(smooth, &fit.segment, &list, &d.signed_distances(), &d.feet);
         s.alpha_bound = super::AlphaBound::of(fit.segment.alpha(), smooth.alpha);
         s.segment = fit.segment;
         s.max_deviation = d.max;
-        s.rms_deviation = rms;
+        s.rms_deviation = d.rms;
         s.search = fit.search;
         return true;
     }
@@ -1853,6 +1847,22 @@ fn distance_at_joint(solver: &Solver, segment: &LacSegment, q: Point, at_end: bo
     deviation_near(segment, &[q], &[seed]).map_or_else(|| distance(solver, segment, q), |d| d.max)
 }
 
+/// The distances from `points` to `segment`, each foot polished by Newton's method from its foot
+/// on a nearby segment (`old`: those feet and that segment's length; scaled to this one's), the
+/// whole segment searched where the polish does not settle. A polished foot is a local nearest
+/// point: its distance is never below the global one.
+fn deviation_from(
+    segment: &LacSegment,
+    points: &[Point],
+    (feet, length): (&[f64], f64),
+    chord_error: f64,
+) -> crate::lac::Deviation {
+    let ratio = segment.length() / length;
+    let seeds: Vec<f64> = feet.iter().map(|s| s * ratio).collect();
+    deviation_near(segment, points, &seeds)
+        .unwrap_or_else(|| deviation(segment, points, chord_error))
+}
+
 /// Hands the samples at each joint to the nearer of its two segments (keeping every segment at
 /// least one sample it had); true when any moved.
 fn reassign(solver: &Solver, segments: &[LacSegment], assign: &mut [Vec<usize>]) -> bool {
@@ -2512,7 +2522,6 @@ fn levenberg_marquardt(
                     break;
                 }
                 let mut trial = moved(layout, x, &vars, &delta);
-                let stepped = trial.clone();
                 let projected = project(
                     Form::Shooting,
                     solver,
@@ -2524,7 +2533,7 @@ fn levenberg_marquardt(
                 // Chord steps that do not reach the constraints: once more with fresh
                 // Jacobians before the step is refused (see [`project`]).
                 .or_else(|| {
-                    trial = stepped;
+                    trial = moved(layout, x, &vars, &delta);
                     project(Form::Shooting, solver, layout, &mut trial, &c3_joints, None)
                 });
                 let Some(segments) = projected else {
@@ -2728,18 +2737,14 @@ fn smooth_alpha_uncertainty(
         )
         .ok()?;
         // The probe is the segment a step of α away: its feet are polished from the
-        // segment's own (scaled to its length), searched afresh only where that fails.
-        let ratio = probe.length() / segment.length();
-        let seeds: Vec<f64> = feet.iter().map(|s| s * ratio).collect();
-        let d = deviation_near(&probe, &points, &seeds)
-            .unwrap_or_else(|| crate::lac::deviation(&probe, &points, smooth.chord_error));
-        Some(
-            d.distances
-                .iter()
-                .zip(&d.sides)
-                .map(|(r, s)| r * s)
-                .collect(),
-        )
+        // segment's own.
+        let d = deviation_from(
+            &probe,
+            &points,
+            (feet, segment.length()),
+            smooth.chord_error,
+        );
+        Some(d.signed_distances())
     };
     let step = super::ALPHA_DIFFERENCE_STEP;
     let (minus, plus) = (signed(alpha - step), signed(alpha + step));

@@ -248,12 +248,7 @@ impl State<'_> {
 
     /// The evaluation of segment `k` from its samples' distances.
     fn evaluated(&self, k: usize, segment: LacSegment, d: Deviation) -> Evaluated {
-        let mut residuals: Vec<f64> = d
-            .distances
-            .iter()
-            .zip(&d.sides)
-            .map(|(x, s)| x * s)
-            .collect();
+        let mut residuals = d.signed_distances();
         residuals.extend(self.end_anchors(k));
         Evaluated {
             residuals,

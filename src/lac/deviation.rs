@@ -47,6 +47,17 @@ pub struct Deviation {
     pub rms: f64,
 }
 
+impl Deviation {
+    /// Each sample's signed distance: its distance times its side (positive left of travel).
+    pub fn signed_distances(&self) -> Vec<f64> {
+        self.distances
+            .iter()
+            .zip(&self.sides)
+            .map(|(d, side)| d * side)
+            .collect()
+    }
+}
+
 /// Most Newton steps polishing a polyline foot into the exact foot point. The polyline foot is
 /// within one spacing of the exact one and Newton converges quadratically from there: three or
 /// four steps reach rounding from the seeding spacing; the iteration stops earlier once a step
