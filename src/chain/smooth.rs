@@ -2427,7 +2427,7 @@ fn levenberg_marquardt(
     let position = band_order(layout, &vars, nc, &c3_joints);
     let mut lambda = INITIAL_DAMPING;
     let mut growth = DAMPING_GROWTH;
-    for _ in 0..MAX_ITERATIONS {
+    for iteration in 0..MAX_ITERATIONS {
         let (jr, jc) = shooting_jacobian(solver, layout, x, e, &vars, &c3_joints)?;
         let c = solver.constraints(Form::Shooting, &e.segments, x, &c3_joints);
         if c.len() != nc {
@@ -2516,9 +2516,17 @@ fn levenberg_marquardt(
                 // The decrease of Σr² the Gauss–Newton model predicts for this step. Below the
                 // stopping fraction the step could not continue the solve even if it were
                 // accepted: converged (or damped to a standstill), without spending a
-                // projection.
+                // projection. A round of [`minimax`] takes its first step whatever it gains:
+                // the reweighting moves the weighted cost's minimum by little (often under the
+                // fraction: the round then ended where it began and the next reweighted the
+                // same chain), but towards the largest distance, which is what the round is for.
                 let predicted = -(2.0 * g.dot(&delta) + delta.dot(&(&a * &delta)));
-                if !(predicted > RELATIVE_DECREASE * e.cost) {
+                let stop_below = if solver.minimax && iteration == 0 {
+                    0.0
+                } else {
+                    RELATIVE_DECREASE * e.cost
+                };
+                if !(predicted > stop_below) {
                     break;
                 }
                 let mut trial = moved(layout, x, &vars, &delta);
