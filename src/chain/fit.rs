@@ -5,7 +5,7 @@ use serde::{Deserialize, Serialize};
 use super::alpha_evidence::{
     ALPHA_DIFFERENCE_STEP, AlphaBound, UNDETERMINED_ALPHA, alpha_uncertainty,
 };
-use super::refine::{RefineOptions, refine};
+use super::refine::{CONVERGED_RMS, RefineOptions, STARTING_CONVERGED_RMS, refine};
 use super::smooth::{Continuity, SmoothInput, smooth_chain};
 use super::state::{Joint, SegmentKey, State};
 use crate::bspline::BSpline;
@@ -332,6 +332,15 @@ pub fn fit_chain(
         if options.refine {
             fitter.merge_runs_refined(&mut state, &mut searches, &refine_options);
         }
+        // A chain of one segment has no joint to make smooth: the G1 chain is the answer in
+        // every continuity, refined to convergence (see `STARTING_CONVERGED_RMS`).
+        if options.refine && state.len() == 1 && refine_options.converged_rms != CONVERGED_RMS {
+            let answer = RefineOptions {
+                converged_rms: CONVERGED_RMS,
+                ..refine_options
+            };
+            fitter.refine_guarded(&mut state, &answer, &mut None);
+        }
         fitter.soften_ends(&mut state, &mut searches);
     }
     // Straightening and merging check the segments they change, but a refinement guarded on the
@@ -532,6 +541,11 @@ impl<'a> Fitter<'a> {
             chord_error: self.chord_error,
             scale: scale.max(self.tolerance),
             tolerance: self.tolerance,
+            converged_rms: if self.options.continuity == Continuity::G1 {
+                CONVERGED_RMS
+            } else {
+                STARTING_CONVERGED_RMS
+            },
         }
     }
 
