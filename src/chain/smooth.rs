@@ -249,8 +249,12 @@ const DIFFERENCE_STEP: f64 = 1e-6;
 /// iteration and 1.14 s for 819 segments, 3e-2 1.03 s for 824, 1e-1 1.04 s for 829, 3e-1 1.20 s
 /// for 833. Scanned again with α in the log scale next to inflections: 1e-2 / 3e-2 / 1e-1 /
 /// 3e-1 / 1 gave 798 / 803 / 783 / 794 / 813 segments, but 1e-1 took a quarter longer on the
-/// median fixture stroke (4.3 ms against 3.4): kept at 3e-2.
-const INITIAL_DAMPING: f64 = 3e-2;
+/// median fixture stroke (4.3 ms against 3.4): kept at 3e-2. Scanned once more with the G1
+/// chain refined as a start only (see `refine::STARTING_CONVERGED_RMS`), counting instructions
+/// over the fixture strokes up to 600 samples (median per stroke, sum) and the nine files'
+/// segments: 1e-3 25.2 M, 3 730 M, 797; 3e-3 28.9 M, 3 499 M, 792; 5e-3 25.6 M, 3 320 M, 799;
+/// 1e-2 25.3 M, 3 366 M, 795; 3e-2 27.8 M, 3 476 M, 799: 1e-2.
+const INITIAL_DAMPING: f64 = 1e-2;
 
 /// Damping after a refused step is multiplied by a factor that starts at this and doubles with
 /// each refusal in a row; after an accepted step it is scaled by max(1/3, 1 − (2ρ − 1)³), ρ the
