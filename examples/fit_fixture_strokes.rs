@@ -8,6 +8,12 @@
 //! tolerance: the fit is chaotic in its details (a change far below the tolerance can move one
 //! stroke's work by a third), so comparing two versions over several tolerances tells a real
 //! change from a reshuffle better than one fit per stroke does.
+//! `FLOOR=1` fits each stroke at its own tolerance, as `kansei fit` does without `--tolerance`
+//! (the unit's default raised to the stroke's noise floor; the factors then scale that), and
+//! `CONTINUITY=g1` (or `c3`) sets the chain's continuity (default: the default, G2). The
+//! per-stroke instruction counts in docs/performance.md are
+//! `REPS=1 FLOOR=1 ONLY=i valgrind --tool=callgrind target/release/examples/fit_fixture_strokes
+//! <file>` minus the same with `REPS=0` (the file's parse), in each continuity.
 use kansei::pipeline::{PipelineOptions, fit_stroke};
 use kansei::stroke::StrokeFile;
 use std::time::Instant;
@@ -54,8 +60,23 @@ fn main() {
                 .enumerate()
                 .map(move |stroke| (f, stroke))
         }) {
-            let tol = factor * file.units.default_tolerance();
-            let options = PipelineOptions::default().with_tolerance(tol);
+            let mut options = PipelineOptions::default();
+            if let Ok(continuity) = std::env::var("CONTINUITY") {
+                match continuity.parse() {
+                    Ok(c) => options.chain.continuity = c,
+                    Err(e) => {
+                        eprintln!("CONTINUITY: {e}");
+                        std::process::exit(2);
+                    }
+                }
+            }
+            let base = if std::env::var("FLOOR").is_ok_and(|v| v == "1") {
+                options.stroke_tolerance(s, file.units).tolerance
+            } else {
+                file.units.default_tolerance()
+            };
+            let tol = factor * base;
+            let options = options.with_tolerance(tol);
             if s.samples.len() > 600 {
                 continue;
             }
