@@ -13,7 +13,7 @@ use crate::bspline::project::Pieces;
 use crate::geom::{Point, Vec2};
 use crate::lac::lcg::{lcg_of_bezier_span_rough, lcg_slope};
 use crate::lac::{
-    AlphaChoice, AlphaSearch, Deviation, LacError, LacSegment, SpanFitOptions,
+    AlphaChoice, AlphaSearch, Deviation, LacError, LacSegment, SpanFit, SpanFitOptions,
     alpha_search::{ALPHA_TOLERANCE, SEED_ALPHA_TOLERANCE},
     biarc, deviation, fit_span, within,
 };
@@ -334,7 +334,7 @@ pub fn fit_chain(
         }
         // A chain of one segment has no joint to make smooth: the G1 chain is the answer in
         // every continuity, refined to convergence (see `STARTING_CONVERGED_RMS`).
-        if options.refine && state.len() == 1 && refine_options.converged_rms != CONVERGED_RMS {
+        if options.refine && options.continuity != Continuity::G1 && state.len() == 1 {
             let answer = RefineOptions {
                 converged_rms: CONVERGED_RMS,
                 ..refine_options
@@ -443,6 +443,36 @@ pub(super) fn soften_tries(
         }));
     }
     tries
+}
+
+/// The turns of [`soften_tries`] whose segment holds `points` (ordered from `a` to `b`) within
+/// `tolerance` and bends no tighter than `options.max_curvature`, in the tries' order, each
+/// with its fit: a lazy sequence, so a caller taking the first that suits it fits no further.
+pub(super) fn soften_fits<'p>(
+    (a, a_angle): (Point, f64),
+    (b, b_angle): (Point, f64),
+    at_start: bool,
+    both: bool,
+    points: &'p [Point],
+    options: SpanFitOptions,
+    tolerance: f64,
+) -> impl Iterator<Item = ((f64, f64), SpanFit)> + 'p {
+    let tangent = |angle: f64| Vec2::new(angle.cos(), angle.sin());
+    soften_tries((a, a_angle), (b, b_angle), at_start, both)
+        .into_iter()
+        .filter_map(move |(start_angle, end_angle)| {
+            let fit = fit_span(
+                a,
+                tangent(start_angle),
+                b,
+                tangent(end_angle),
+                points,
+                &options,
+            )
+            .ok()?;
+            (fit.deviation.max <= tolerance && within(&fit.segment, options.max_curvature))
+                .then_some(((start_angle, end_angle), fit))
+        })
 }
 
 /// What [`Fitter::search`] found.
@@ -1364,30 +1394,26 @@ impl<'a> Fitter<'a> {
             }
             let (a, b) = (state.joints[k], state.joints[k + 1]);
             let points: Vec<Point> = state.points_of(k);
-            let tries = soften_tries((a.p, a.angle), (b.p, b.angle), at_start, n == 1);
-            for (start_angle, end_angle) in tries {
+            let options = SpanFitOptions {
+                max_curvature: cap,
+                guess: Some(state.alphas[k]),
+                abandon_above: self.tolerance,
+                unreachable_above: self.tolerance,
+                ..self.span_options()
+            };
+            let fits = soften_fits(
+                (a.p, a.angle),
+                (b.p, b.angle),
+                at_start,
+                n == 1,
+                &points,
+                options,
+                self.tolerance,
+            );
+            for ((start_angle, end_angle), fit) in fits {
                 let (mut ta, mut tb) = (a, b);
                 ta.angle = start_angle;
                 tb.angle = end_angle;
-                let Ok(fit) = fit_span(
-                    ta.p,
-                    ta.tangent(),
-                    tb.p,
-                    tb.tangent(),
-                    &points,
-                    &SpanFitOptions {
-                        max_curvature: cap,
-                        guess: Some(state.alphas[k]),
-                        abandon_above: self.tolerance,
-                        unreachable_above: self.tolerance,
-                        ..self.span_options()
-                    },
-                ) else {
-                    continue;
-                };
-                if fit.deviation.max > self.tolerance || !within(&fit.segment, cap) {
-                    continue;
-                }
                 // Only segment k uses a joint that turns (an end of the piece): set them, and
                 // keep them if the state's own measure of the segment agrees (it takes the
                 // search's, remembered).

@@ -102,11 +102,11 @@
 use super::band::{Band, BandCholesky};
 use super::band_lu::BandMatrix;
 use super::fit::{
-    Chain, ChainInput, ChainSegment, JointKind, nearest_deviation, soften_tries, tile_ranges,
+    Chain, ChainInput, ChainSegment, JointKind, nearest_deviation, soften_fits, tile_ranges,
 };
 use crate::bspline::project::Pieces;
 use crate::geom::{Point, Vec2};
-use crate::lac::alpha_search::{SpanFitOptions, fit_span};
+use crate::lac::alpha_search::SpanFitOptions;
 use crate::lac::deviation::{deviation, deviation_near};
 use crate::lac::{AlphaChoice, LacError, LacSegment};
 use nalgebra::{DMatrix, DVector};
@@ -1053,32 +1053,20 @@ fn soften_isolated(smooth: &SmoothInput, s: &mut ChainSegment, cap: f64) -> bool
         (segment.start(), segment.theta0()),
         (segment.end(), segment.theta1()),
     );
-    let tangent = |angle: f64| Vec2::new(angle.cos(), angle.sin());
-    for (start_angle, end_angle) in soften_tries(a, b, at_start, true) {
-        let Ok(fit) = fit_span(
-            a.0,
-            tangent(start_angle),
-            b.0,
-            tangent(end_angle),
-            &points,
-            &options,
-        ) else {
-            continue;
-        };
-        if fit.deviation.max > smooth.tolerance || bend(&fit.segment) > cap {
-            continue;
-        }
-        let d = &fit.deviation;
-        s.alpha_uncertainty =
-            smooth_alpha_uncertainty(smooth, &fit.segment, &list, &d.signed_distances(), &d.feet);
-        s.alpha_bound = super::AlphaBound::of(fit.segment.alpha(), smooth.alpha);
-        s.segment = fit.segment;
-        s.max_deviation = d.max;
-        s.rms_deviation = d.rms;
-        s.search = fit.search;
-        return true;
-    }
-    false
+    let Some((_, fit)) =
+        soften_fits(a, b, at_start, true, &points, options, smooth.tolerance).next()
+    else {
+        return false;
+    };
+    let d = &fit.deviation;
+    s.alpha_uncertainty =
+        smooth_alpha_uncertainty(smooth, &fit.segment, &list, &d.signed_distances(), &d.feet);
+    s.alpha_bound = super::AlphaBound::of(fit.segment.alpha(), smooth.alpha);
+    s.segment = fit.segment;
+    s.max_deviation = d.max;
+    s.rms_deviation = d.rms;
+    s.search = fit.search;
+    true
 }
 
 /// The largest curvature a smooth chain of these samples may have at a joint (see
