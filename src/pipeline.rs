@@ -438,10 +438,11 @@ pub const LADDER_MAX_RUNGS: usize = 40;
 
 /// Fits a stroke to a tolerance looser than its own ([`StrokeTolerance::own`]) on its tolerance
 /// ladder: the rungs `own · LADDER_RATIO^k` at or below the tolerance (at most
-/// [`LADDER_MAX_RUNGS`]) are each fitted, and among the fits whose chains hold their rung, the
-/// one with the fewest segments is kept (the tightest among equals). Every rung's fit holds the
-/// tolerance (its own rung is at most it), and the rungs depend on the stroke alone: a looser
-/// tolerance adds rungs and drops none, so its fewest segments are never more. A fresh fit at
+/// [`LADDER_MAX_RUNGS`]) are each fitted, and among the fits whose chains hold the tolerance
+/// (every chain's largest distance within it, whether or not it held its own rung), the one
+/// with the fewest segments is kept (the tightest among equals). The rungs depend on the stroke
+/// alone and a fit holding a tolerance holds every looser one: a looser tolerance adds
+/// candidates and drops none, so its fewest segments are never more. A fresh fit at
 /// the tolerance itself is not a candidate: each stage decides afresh at each tolerance
 /// (corners, B-spline knots, split points, cuts and merges), and fresh fits made the count rise
 /// on loosening for 7 of the 52 px fixture strokes above their own tolerance. A dot at the
@@ -472,12 +473,15 @@ pub fn fit_on_ladder(
             .map(|c| c.chain.as_ref().map_or(0, |ch| ch.segments.len()))
             .sum()
     };
-    // A rung's fit is a candidate if every chain holds the rung (the chain states whether it
-    // does); where none does, the fit closest to the samples stands.
+    // A rung's fit is a candidate if every chain holds the tolerance asked for (its largest
+    // distance, measured): a chain that misses its own rung may still hold it. Where none does,
+    // the fit closest to the samples stands.
     let holds = |curves: &[CurveFit]| {
-        curves
-            .iter()
-            .all(|c| c.chain.as_ref().is_some_and(|ch| ch.within_tolerance))
+        curves.iter().all(|c| {
+            c.chain
+                .as_ref()
+                .is_some_and(|ch| ch.max_deviation <= tolerance)
+        })
     };
     let worst = |curves: &[CurveFit]| {
         curves
