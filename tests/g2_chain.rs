@@ -248,7 +248,7 @@ fn a_planted_compound_rhythm_comes_back_with_continuous_dkappa_ds() {
 }
 
 #[test]
-fn every_recorded_stroke_in_g2_holds_its_tolerance_and_states_its_continuity() {
+fn every_recorded_stroke_in_g2_holds_its_tolerance_its_continuity_and_the_curvature_bound() {
     // Real strokes: whatever the smooth fit manages, no curve loses its tolerance, every joint
     // keeps position continuity, and a curve that says G2 is curvature-continuous at every
     // smooth joint (corners excepted: there the samples turn faster than they resolve).
@@ -273,6 +273,18 @@ fn every_recorded_stroke_in_g2_holds_its_tolerance_and_states_its_continuity() {
                 let scale = 1.0 + w[1].segment.start().to_vec2().hypot();
                 assert!(gap <= 1e-9 * scale, "{name}: a joint {gap} apart");
             }
+            // No segment bends tighter than the smooth chain's bound: a hook at a corner is a
+            // corner (and a line), not a curl (28 segments of the painting did before).
+            let cap = curvature_bound(&curve.points, curve.tolerance);
+            for s in &chain.segments {
+                let bend = s.segment.kappa0().abs().max(s.segment.kappa1().abs());
+                assert!(
+                    bend <= cap * (1.0 + BOUND_ROUNDING),
+                    "{name} stroke {} samples {:?}: κ = {bend} beyond the bound {cap}",
+                    curve.stroke,
+                    s.samples
+                );
+            }
             if chain.continuity == Continuity::G2 {
                 smooth_curves += 1;
                 for joint in kansei::export::JointRecord::of_chain(&chain.segments) {
@@ -290,6 +302,21 @@ fn every_recorded_stroke_in_g2_holds_its_tolerance_and_states_its_continuity() {
         curves > 0 && smooth_curves == curves,
         "{smooth_curves} of {curves} curves G2 throughout"
     );
+}
+
+/// Relative rounding allowed above the curvature bound: the fit holds a joint's log-curvature
+/// at the bound's logarithm, and the exponential rounds.
+const BOUND_ROUNDING: f64 = 1e-9;
+
+/// The smooth chain's curvature bound on a piece's distinct sample positions (see
+/// `kansei::chain::smooth::MIN_RADIUS_TOLERANCES` and `MAX_TURN_PER_SAMPLE`): a radius of half a
+/// tolerance, and a quarter turn between two samples at their median spacing.
+fn curvature_bound(points: &[Point], tolerance: f64) -> f64 {
+    let mut steps: Vec<f64> = points.windows(2).map(|w| w[0].distance(w[1])).collect();
+    steps.sort_by(f64::total_cmp);
+    let spacing = steps.get(steps.len() / 2).copied().unwrap_or(0.0);
+    (1.0 / (kansei::chain::smooth::MIN_RADIUS_TOLERANCES * tolerance))
+        .min(kansei::chain::smooth::MAX_TURN_PER_SAMPLE / spacing.max(f64::MIN_POSITIVE))
 }
 
 /// Asserts that no segment of `stroke` of the fixture file `name`, fitted with the defaults in

@@ -25,6 +25,7 @@ mod fit;
 mod refine;
 pub mod smooth;
 mod state;
+mod unhook;
 
 pub use alpha_evidence::{
     ALPHA_BOUND_TOLERANCE, ALPHA_DIFFERENCE_STEP, AlphaBound, UNDETERMINED_ALPHA, alpha_uncertainty,
