@@ -26,7 +26,7 @@ use super::fit::{ChainSegment, JointKind, soften_fits};
 use super::smooth::SmoothInput;
 use crate::geom::{Point, Vec2};
 use crate::lac::LacSegment;
-use crate::lac::alpha_search::{AlphaSearch, SpanFitOptions, fit_span};
+use crate::lac::alpha_search::{AlphaSearch, fit_span};
 use crate::lac::deviation::deviation;
 
 /// Most samples a hook may hold: a hook is the pen's turn at a corner, a sample or two before
@@ -72,14 +72,7 @@ pub(super) fn unhook(
     }
     // 3. A hook cut off the curled end.
     let at_start = segment.kappa0().abs() >= segment.kappa1().abs();
-    let options = SpanFitOptions {
-        choice: smooth.alpha,
-        max_curvature: cap,
-        guess: segment.alpha(),
-        abandon_above: smooth.tolerance,
-        unreachable_above: smooth.tolerance,
-        ..SpanFitOptions::new(smooth.chord_error)
-    };
+    let options = smooth.soften_options(cap, segment.alpha());
     let tangent = |angle: f64| Vec2::new(angle.cos(), angle.sin());
     for m in 1..=MAX_HOOK_SAMPLES.min(points.len().saturating_sub(1)) {
         // The new corner's sample, the hook's samples and the rest's, in stroke order.

@@ -1,0 +1,215 @@
+//! The Jacobians of the residuals and of the joint equations, by differences of the segments an
+//! unknown moves.
+
+use super::*;
+
+/// Forward-difference step of the unknowns (angles in radians, logs of curvatures and lengths,
+/// α): 1e-6 is √ε times the relative accuracy of the evaluation (~1e-12), the step that
+/// balances truncation against rounding.
+pub(super) const DIFFERENCE_STEP: f64 = 1e-6;
+
+/// The constraints' Jacobian in the forward form at its chain `segments`: a change of one
+/// unknown reshapes at most two segments (differenced) and moves every later segment rigidly
+/// with the end pose of the last reshaped one, so the chain's end moves by
+/// δE + δθ·(Pₑ − E)^⊥ (E, θ that end pose); a C3 gap changes only where a reshaped segment meets
+/// it. `None` where a differenced segment cannot be built.
+fn forward_constraint_jacobian(
+    solver: &Solver,
+    layout: &Layout,
+    x: &Params,
+    segments: &[LacSegment],
+    vars: &[Var],
+    c3_joints: &[usize],
+) -> Option<DMatrix<f64>> {
+    let n = layout.n();
+    let nc = 2 + if solver.c3 { c3_joints.len() } else { 0 };
+    let mut jc = DMatrix::zeros(nc, vars.len());
+    let end = segments[n - 1].end();
+    for (col, &var) in vars.iter().enumerate() {
+        if var == Var::Theta0 {
+            let d = perp(end - x.pose[0].0) / solver.scale;
+            jc[(0, col)] = d.x;
+            jc[(1, col)] = d.y;
+            continue;
+        }
+        if var == Var::EndShift {
+            let d = x.anchors[1].1 / -solver.scale;
+            jc[(0, col)] = d.x;
+            jc[(1, col)] = d.y;
+            continue;
+        }
+        let (k0, k1) = layout.reach(var);
+        let mut xp = x.clone();
+        set(layout, &mut xp, var, get(layout, x, var) + DIFFERENCE_STEP);
+        let new = layout.rebuild(&xp, segments, k0, k1).ok()?;
+        let last = &new[k1 - k0];
+        let old_end = segments[k1].end();
+        let d_end = (last.end() - old_end) / DIFFERENCE_STEP;
+        let d_theta = (last.theta1() - segments[k1].theta1()) / DIFFERENCE_STEP;
+        let d = (d_end + perp(end - old_end) * d_theta) / solver.scale;
+        jc[(0, col)] = d.x;
+        jc[(1, col)] = d.y;
+        if solver.c3 {
+            let pick = |k: usize| {
+                if (k0..=k1).contains(&k) {
+                    &new[k - k0]
+                } else {
+                    &segments[k]
+                }
+            };
+            for (row, &j) in c3_joints.iter().enumerate() {
+                if (k0..=k1).contains(&(j - 1)) || (k0..=k1).contains(&j) {
+                    let before = c3_gap(&segments[j - 1], &segments[j]);
+                    let after = c3_gap(pick(j - 1), pick(j));
+                    jc[(2 + row, col)] = (after - before) / DIFFERENCE_STEP;
+                }
+            }
+        }
+    }
+    Some(jc)
+}
+
+/// The Jacobians of the residuals and of the constraints in the shooting form: a change of
+/// one unknown rebuilds one segment (two for a joint's curvature) from its own start pose; the
+/// residual columns are differenced at the samples' feet, the constraint columns by
+/// differencing [`Solver::constraints`] with those segments replaced.
+pub(super) fn shooting_jacobian(
+    solver: &Solver,
+    layout: &Layout,
+    x: &Params,
+    e: &Evaluation,
+    vars: &[Var],
+    c3_joints: &[usize],
+) -> Option<(DMatrix<f64>, DMatrix<f64>)> {
+    let mut offsets = Vec::with_capacity(e.residuals.len());
+    let mut rows = 0;
+    for r in &e.residuals {
+        offsets.push(rows);
+        rows += r.len();
+    }
+    let c0 = solver.constraints(Form::Shooting, &e.segments, x, c3_joints);
+    let mut jr = DMatrix::zeros(rows, vars.len());
+    let mut jc = DMatrix::zeros(c0.len(), vars.len());
+    let mut segments = e.segments.clone();
+    // Each foot evaluated as the differenced points will be: the stored foot points come from
+    // the distance search's own integration, and a difference against them carries the two
+    // integrations' disagreement divided by the step (seen: a length's column 2.3 where the
+    // scaling identity ∂/∂v = (P − Pₖ) + Σ ∂/∂u, exact for a segment, gave 4.7 from the
+    // joints' columns, each off by the same offset).
+    let base: Vec<Vec<Point>> = e
+        .segments
+        .iter()
+        .zip(&e.feet)
+        .map(|(seg, feet)| crate::lac::deviation::points_at(seg, feet))
+        .collect();
+    // Without C3 rows, a length's column follows from the joints' (below): no construction.
+    let scaled = |var: Var| matches!(var, Var::Length(_)) && !solver.c3;
+    for (col, &var) in vars.iter().enumerate() {
+        if scaled(var) {
+            continue;
+        }
+        let (k0, k1) = layout.shooting_reach(var);
+        let mut xp = x.clone();
+        set(layout, &mut xp, var, get(layout, x, var) + DIFFERENCE_STEP);
+        for k in k0..=k1 {
+            // A pose moves its segment rigidly, each point by shift + turn·(P − Pₖ)^⊥ per unit
+            // of the unknown: no construction, no integration, and exact.
+            let rigid = match var {
+                Var::X(j) if j == k => Some((Vec2::new(1.0, 0.0), 0.0)),
+                Var::Y(j) if j == k => Some((Vec2::new(0.0, 1.0), 0.0)),
+                Var::Angle(j) if j == k => Some((Vec2::ZERO, 1.0)),
+                Var::StartShift => Some((x.anchors[0].1, 0.0)),
+                _ => None,
+            };
+            let rows = e.foot_points[k].iter().zip(&base[k]).enumerate();
+            let seg = if let Some((shift, turn)) = rigid {
+                let start = e.segments[k].start();
+                for (m, ((_, nrm), f)) in rows {
+                    jr[(offsets[k] + m, col)] = -nrm.dot(shift + perp(*f - start) * turn);
+                }
+                e.segments[k].placed(xp.pose[k].0, xp.pose[k].1)
+            } else {
+                let seg = layout.segment(&xp, k, xp.pose[k].0, xp.pose[k].1).ok()?;
+                let ratio = seg.length() / e.segments[k].length();
+                let feet: Vec<f64> = e.feet[k].iter().map(|s| s * ratio).collect();
+                let moved = crate::lac::deviation::points_at(&seg, &feet);
+                for ((m, ((_, nrm), f)), p) in rows.zip(moved) {
+                    jr[(offsets[k] + m, col)] = -nrm.dot((p - *f) / DIFFERENCE_STEP);
+                }
+                seg
+            };
+            segments[k] = seg;
+        }
+        let c1 = solver.constraints(Form::Shooting, &segments, &xp, c3_joints);
+        jc.set_column(col, &((c1 - &c0) / DIFFERENCE_STEP));
+        segments[k0..=k1].copy_from_slice(&e.segments[k0..=k1]);
+    }
+    // Lengthening segment k by dv while both its end curvatures shrink by e^{−dv} scales it by
+    // e^{dv} about its start (a similarity keeps α): a point at a fixed fraction of the length
+    // moves by (P − Pₖ)·dv, the turning not at all. So ∂/∂v = (P − Pₖ) + Σ ∂/∂u over its
+    // non-zero end joints, whose columns hold segment k's own rows (its samples, its end's
+    // equations) apart from the other segment's.
+    let n = layout.n();
+    for (col, &var) in vars.iter().enumerate() {
+        let Var::Length(k) = var else { continue };
+        if !scaled(var) {
+            continue;
+        }
+        let joints: Vec<usize> = [k, k + 1]
+            .into_iter()
+            .filter_map(|j| vars.iter().position(|&v| v == Var::Joint(j)))
+            .collect();
+        let start = e.segments[k].start();
+        for (m, ((_, nrm), f)) in e.foot_points[k].iter().zip(&base[k]).enumerate() {
+            let row = offsets[k] + m;
+            jr[(row, col)] =
+                -nrm.dot(*f - start) + joints.iter().map(|&j| jr[(row, j)]).sum::<f64>();
+        }
+        let (rx, ry, angle) = end_rows(n, k);
+        let lever = (e.segments[k].end() - start) / solver.scale;
+        for (row, own) in [(rx, lever.x), (ry, lever.y)] {
+            jc[(row, col)] = own + joints.iter().map(|&j| jc[(row, j)]).sum::<f64>();
+        }
+        if let Some(row) = angle {
+            jc[(row, col)] = joints.iter().map(|&j| jc[(row, j)]).sum::<f64>();
+        }
+    }
+    Some((jr, jc))
+}
+
+/// The rows of segment k's end in the shooting form's constraints ([`Solver::constraints`]):
+/// its position equations' two rows and, but for the last segment (whose end is the target
+/// point), its tangent equation's row.
+pub(super) fn end_rows(n: usize, k: usize) -> (usize, usize, Option<usize>) {
+    if k + 1 == n {
+        (0, 1, None)
+    } else {
+        (2 + 3 * k, 3 + 3 * k, Some(4 + 3 * k))
+    }
+}
+
+/// The constraints' Jacobian alone at the chain `segments` of `x`.
+pub(super) fn constraint_jacobian(
+    form: Form,
+    solver: &Solver,
+    layout: &Layout,
+    x: &Params,
+    segments: &[LacSegment],
+    vars: &[Var],
+    c3_joints: &[usize],
+) -> Option<DMatrix<f64>> {
+    match form {
+        Form::Shooting => {
+            let n = segments.len();
+            let e = Evaluation {
+                segments: segments.to_vec(),
+                residuals: vec![Vec::new(); n],
+                feet: vec![Vec::new(); n],
+                foot_points: vec![Vec::new(); n],
+                cost: 0.0,
+            };
+            shooting_jacobian(solver, layout, x, &e, vars, c3_joints).map(|(_, jc)| jc)
+        }
+        Form::Forward => forward_constraint_jacobian(solver, layout, x, segments, vars, c3_joints),
+    }
+}

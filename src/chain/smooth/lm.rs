@@ -1,0 +1,660 @@
+//! The constrained Levenberg–Marquardt solve, its projection onto the joint equations and the
+//! minimax rounds.
+
+use super::*;
+
+/// Iterations of one Levenberg–Marquardt solve. Each accepted step lowers the squared distances;
+/// from the G1 chain, 10–20 steps reach the minimum to the stopping rule below.
+pub(super) const MAX_ITERATIONS: usize = 40;
+
+/// The solve stops when an accepted step lowers the sum of squared distances by less than this
+/// fraction (or the model predicts less): the distances then move by half a percent. On the
+/// fixture strokes in g2 (with the consistent Jacobian of [`shooting_jacobian`]): 1e-3 gave 906
+/// segments in 1.52 s, 3e-3 899 in 1.33 s, 1e-2 910 in 1.24 s, all 261 of 263 curves G2 with
+/// a median rms distance of 0.26 tolerances (a Jacobian differenced against the distance
+/// search's own foot points, at 1e-3: 926 segments, 0.28).
+pub(super) const RELATIVE_DECREASE: f64 = 1e-2;
+
+/// The solve also stops when an accepted step lowers the sum of squared distances by less than
+/// this fraction while every sample is within the tolerance: the chain then holds and the steps
+/// left would move the distances by a percent or two.
+pub(super) const WITHIN_DECREASE: f64 = 5e-2;
+
+/// Marquardt's damping starts at this multiple of the normal matrix's diagonal. Most solves
+/// start near an answer (a cut chain, a minimax round, a second start), where a bolder first step
+/// is refused: on the nine fixture files in g2, 1e-3 took 1.9 trials per Levenberg–Marquardt
+/// iteration and 1.14 s for 819 segments, 3e-2 1.03 s for 824, 1e-1 1.04 s for 829, 3e-1 1.20 s
+/// for 833. Scanned again with α in the log scale next to inflections: 1e-2 / 3e-2 / 1e-1 /
+/// 3e-1 / 1 gave 798 / 803 / 783 / 794 / 813 segments, but 1e-1 took a quarter longer on the
+/// median fixture stroke (4.3 ms against 3.4): kept at 3e-2. Scanned once more with the G1
+/// chain refined as a start only (see `refine::STARTING_CONVERGED_RMS`), counting instructions
+/// over the fixture strokes up to 600 samples (median per stroke, sum) and the nine files'
+/// segments: 1e-3 25.2 M, 3 730 M, 797; 3e-3 28.9 M, 3 499 M, 792; 5e-3 25.6 M, 3 320 M, 799;
+/// 1e-2 25.3 M, 3 366 M, 795; 3e-2 27.8 M, 3 476 M, 799: 1e-2.
+pub(super) const INITIAL_DAMPING: f64 = 1e-2;
+
+/// Damping after a refused step is multiplied by a factor that starts at this and doubles with
+/// each refusal in a row; after an accepted step it is scaled by max(1/3, 1 − (2ρ − 1)³), ρ the
+/// ratio of the actual to the predicted decrease (Nielsen's rule): a step that did what the
+/// model said lowers it, one that barely helped keeps it. A fixed ×4 / ÷3 made the fit alternate
+/// refused and accepted steps (each refusal a projection onto the constraints).
+pub(super) const DAMPING_GROWTH: f64 = 2.0;
+
+/// Beyond this damping the step is too short to matter: the solve has converged or is stuck.
+pub(super) const MAX_DAMPING: f64 = 1e8;
+
+/// A diagonal entry of the normal matrix below this fraction of the largest is raised to it
+/// before damping: an unknown the samples barely see (α of a near arc, the curvature at a
+/// joint of a near line) is then held by the damping instead of moving freely inside the
+/// constraints' null space, where its steps are as long as the linearisation allows and their
+/// projections fail. Scanned over the fixture strokes in g2: 1e-9 left 260 of 263 curves G2 with
+/// 1 019 segments in 5.5 s; 1e-5 … 1e-3 give 261 with 915–932 segments in 3.3–4.2 s (fewer
+/// cuts); 1e-2 and above hold the unknowns too tightly (260 curves).
+pub(super) const DIAGONAL_FLOOR: f64 = 1e-4;
+
+/// A fresh constraint Jacobian is reused for the next projection step while the last step cut
+/// the violation at least by this factor (Newton converging, the Jacobian still good enough).
+/// On the fixture strokes in g2: a fresh one every step 1.13 s, reuse below 0.03 1.10 s, 0.1
+/// 0.99 s, 0.3 1.02 s (923 segments against 910–915: slower steps leave worse trials).
+pub(super) const FRESH_REUSE_RATE: f64 = 0.1;
+
+/// Newton steps projecting a point onto the constraints. From the starting chain (the G1
+/// chain with one curvature per joint) the steps converge linearly, a factor of 3 to 20 per
+/// step (the bounds clamp some of them): 30 reach the constraints from a violation of the
+/// order of the chain's extent (6 left 71 of 254 fixture curves short of them).
+pub(super) const PROJECTION_STEPS: usize = 30;
+
+/// Chord steps projecting a Levenberg–Marquardt trial back onto the constraints (see
+/// [`project`]): a trial a damped step away from the constraints converges in two or three; one
+/// that does not within this many is refused like a step that raises the cost. On the nine
+/// recorded fixture files, 6 gave 915 segments in 0.88 s, 12 gives 896 in 0.78 s.
+pub(super) const TRIAL_PROJECTION_STEPS: usize = 12;
+
+/// Rounds of Lawson's reweighting (see [`minimax`]) a least-squares chain whose largest distance
+/// misses the tolerance by at most [`MINIMAX_REACH`] gets before its segments are cut: the
+/// samples of a whole-pixel grid lie up to half a pixel's diagonal from the true curve, right at
+/// the noise floor's tolerance, and the least-squares fit of the true segments can miss it by a
+/// little where a minimax fit of the same segments holds it.
+pub(super) const MINIMAX_ROUNDS: usize = 4;
+
+/// Least factor (relative to the largest distance) by which a round of [`minimax`] multiplies a
+/// sample's weight: a sample on the curve keeps a say in the next round instead of dropping
+/// out for good.
+pub(super) const LAWSON_FLOOR: f64 = 0.05;
+
+/// The least-squares chain of `layout` at `x` refitted for its largest distance (Lawson's
+/// iteration): each round multiplies every sample's weight by its distance (relative to the
+/// largest, at least [`LAWSON_FLOOR`]) and solves again from the last answer, which moves the
+/// chain towards the minimax fit of the same segments. The first round whose largest distance
+/// is within the tolerance is returned with its assignment; `None` if none is within
+/// [`MINIMAX_ROUNDS`]. The solver's weights are left uniform.
+pub(super) fn minimax(
+    solver: &mut Solver,
+    layout: &Layout,
+    x: &Params,
+    assign: &[Vec<usize>],
+    evaluation: &Evaluation,
+) -> Option<(Evaluation, Vec<Vec<usize>>)> {
+    let (mut x, mut assign) = (x.clone(), assign.to_vec());
+    solver.weights = vec![1.0; solver.points.len()];
+    solver.minimax = true;
+    let mut found = None;
+    let mut last: Option<Evaluation> = None;
+    for _ in 0..MINIMAX_ROUNDS {
+        let e = last.as_ref().unwrap_or(evaluation);
+        let worst = largest_distance(e);
+        if !(worst > 0.0) {
+            break;
+        }
+        for (residuals, list) in e.residuals.iter().zip(&assign) {
+            for (r, &i) in residuals.iter().zip(list) {
+                solver.weights[i] *= (r.abs() / worst).max(LAWSON_FLOOR);
+            }
+        }
+        let total: f64 = solver.weights.iter().sum();
+        let mean = total / solver.weights.len() as f64;
+        if !(mean > 0.0 && mean.is_finite()) {
+            break;
+        }
+        for w in &mut solver.weights {
+            *w /= mean;
+        }
+        let before = assign.clone();
+        let Some(next) = solve(solver, layout, &mut x, &mut assign, Some((e, &before))) else {
+            break;
+        };
+        if largest_distance(&next) <= solver.tolerance {
+            found = Some((next, assign));
+            break;
+        }
+        last = Some(next);
+    }
+    solver.weights = Vec::new();
+    solver.minimax = false;
+    found
+}
+
+/// The normal equations JᵀJ and Jᵀr of the residuals of `e` with Jacobian `jr` (rows segment
+/// after segment): segment k's rows are nonzero only in the columns `reaching[k]`, so each row
+/// adds its few products instead of a dense product over every column.
+pub(super) fn normal_equations(
+    solver: &Solver,
+    jr: &DMatrix<f64>,
+    e: &Evaluation,
+    assign: &[Vec<usize>],
+    reaching: &[Vec<usize>],
+) -> (DMatrix<f64>, DVector<f64>) {
+    let m = jr.ncols();
+    let mut a = DMatrix::zeros(m, m);
+    let mut g = DVector::zeros(m);
+    let mut row = 0;
+    for ((residuals, columns), list) in e.residuals.iter().zip(reaching).zip(assign) {
+        for (&r, &sample) in residuals.iter().zip(list) {
+            let w = solver.weight(sample);
+            for &j in columns {
+                let v = w * jr[(row, j)];
+                if v == 0.0 {
+                    continue;
+                }
+                g[j] += v * r;
+                for &i in columns {
+                    a[(i, j)] += jr[(row, i)] * v;
+                }
+            }
+            row += 1;
+        }
+    }
+    (a, g)
+}
+
+/// Where each row of the KKT system (the unknowns `vars`, then the `nc` constraints in the order
+/// of [`Solver::constraints`] in the shooting form) goes so that the system is banded: along the
+/// chain, a joint's curvature, its position and tangent equations (and C3's), the pose of the
+/// segment it starts, that segment's length and α; the end point's equations last. A segment's
+/// residuals and a joint's equations then involve rows of two neighbouring segments only, a
+/// bandwidth of about fifteen whatever the chain's length.
+pub(super) fn band_order(
+    layout: &Layout,
+    vars: &[Var],
+    nc: usize,
+    c3_joints: &[usize],
+) -> Vec<usize> {
+    let n = layout.n();
+    let m = vars.len();
+    let joint_rows = 3 * n.saturating_sub(1);
+    let mut keys: Vec<(f64, usize)> = vars
+        .iter()
+        .enumerate()
+        .map(|(i, &var)| {
+            let key = match var {
+                Var::Theta0 => -1.0,
+                Var::StartShift => 0.0,
+                Var::EndShift => n as f64,
+                Var::Joint(j) => j as f64 - 0.2,
+                Var::X(k) | Var::Y(k) | Var::Angle(k) => k as f64,
+                Var::Length(k) | Var::Alpha(k) => k as f64 + 0.5,
+            };
+            (key, i)
+        })
+        .collect();
+    keys.extend((0..nc).map(|r| (constraint_key(r, n, joint_rows, c3_joints), m + r)));
+    positions(keys)
+}
+
+/// Each index's place when `keys` (a key per index, `(key, index)`) are sorted by key, ties in
+/// index order.
+pub(super) fn positions(mut keys: Vec<(f64, usize)>) -> Vec<usize> {
+    keys.sort_by(|p, q| p.0.total_cmp(&q.0).then(p.1.cmp(&q.1)));
+    let mut position = vec![0; keys.len()];
+    for (p, &(_, i)) in keys.iter().enumerate() {
+        position[i] = p;
+    }
+    position
+}
+
+/// Projects `x` onto the constraints of `form` by least-norm Newton steps; returns the chain
+/// there, or `None` when the steps do not meet the constraints.
+///
+/// With `chord`, the constraint Jacobian of the point a trial stepped from is used throughout (a
+/// chord method: a damped step away, it converges in two or three steps without differencing
+/// the chain again). Where it does not converge, the fit projects the trial again without
+/// `chord` (fresh Jacobians, a construction per unknown each) before refusing it: on the nine
+/// recorded fixture files in g2 that gives 803 segments against 809 in the same time (with α in
+/// the log scale next to inflections, see `Layout::log_alpha`; before it, fresh projections
+/// took a third longer for more segments, 915 against 896, and trials were refused at once).
+pub(super) fn project(
+    form: Form,
+    solver: &Solver,
+    layout: &Layout,
+    x: &mut Params,
+    c3_joints: &[usize],
+    chord: Option<&DMatrix<f64>>,
+) -> Option<Vec<LacSegment>> {
+    let vars = layout.vars_of(form);
+    let n = layout.n();
+    let rows = constraint_order(form, n, solver.c3, c3_joints);
+    // A chain in the shooting form (the start, every trial) need meet the joints only well
+    // within the tolerance; the fit's answer is laid out forward exactly at the end (see
+    // [`TRIAL_GAP_TOLERANCES`]).
+    let slack = match form {
+        Form::Shooting => solver.trial_slack,
+        Form::Forward => 1.0,
+    };
+    let newton = |x: &mut Params,
+                  fixed: Option<&DMatrix<f64>>,
+                  steps: usize|
+     -> Option<Vec<LacSegment>> {
+        let chord = match fixed {
+            Some(jc) => Some(LeastNorm::new(jc, &rows)?),
+            None => None,
+        };
+        let mut previous: Option<f64> = None;
+        // In the fresh mode, the last Jacobian's factor and whether it is still contracting.
+        let mut kept: Option<LeastNorm> = None;
+        for step in 0..=steps {
+            layout.clamp(x, solver.log_kappa);
+            let segments = layout.build_form(form, x).ok()?;
+            if layout.winds(&segments) {
+                return None;
+            }
+            let c = solver.constraints(form, &segments, x, c3_joints);
+            if solver.constraints_met(form, n, &c, slack) {
+                return Some(segments);
+            }
+            // The chord steps converge linearly: at the rate seen so far, would the steps
+            // left reach the constraints? If not, refuse the trial now rather than after
+            // every step.
+            let size = c.amax();
+            if fixed.is_some()
+                && let Some(before) = previous
+            {
+                let rate = size / before;
+                if !(rate < 1.0 && size * rate.powf((steps - step) as f64) <= slack * END_TOLERANCE)
+                {
+                    return None;
+                }
+            }
+            // A fresh Jacobian is kept while its steps contract fast (Shamanskii's variant of
+            // Newton): each new one costs a construction per unknown.
+            if fixed.is_none()
+                && let Some(before) = previous
+                && !(size <= FRESH_REUSE_RATE * before)
+            {
+                kept = None;
+            }
+            previous = Some(size);
+            let step = match (&chord, &kept) {
+                (Some(chord), _) => chord.step(&c)?,
+                (None, Some(factor)) => factor.step(&c)?,
+                (None, _) => {
+                    let mut jc =
+                        constraint_jacobian(form, solver, layout, x, &segments, &vars, c3_joints)?;
+                    // Unknowns on a bound stay there: a step the clamp would cut short
+                    // turns Newton's quadratic convergence into a crawl.
+                    for (i, &var) in vars.iter().enumerate() {
+                        if layout.pushed_beyond(var, x, 1.0, solver.log_kappa)
+                            || layout.pushed_beyond(var, x, -1.0, solver.log_kappa)
+                        {
+                            jc.column_mut(i).fill(0.0);
+                        }
+                    }
+                    let factor = LeastNorm::new(&jc, &rows)?;
+                    let step = factor.step(&c)?;
+                    kept = Some(factor);
+                    step
+                }
+            };
+            *x = moved(layout, x, &vars, &step);
+        }
+        None
+    };
+    match chord {
+        Some(_) => newton(x, chord, TRIAL_PROJECTION_STEPS),
+        None => newton(x, None, PROJECTION_STEPS),
+    }
+}
+
+/// Where each constraint row of `form` goes in an order along the chain (see [`band_order`]).
+pub(super) fn constraint_order(form: Form, n: usize, c3: bool, c3_joints: &[usize]) -> Vec<usize> {
+    let joint_rows = match form {
+        Form::Shooting => 3 * n.saturating_sub(1),
+        Form::Forward => 0,
+    };
+    let nc = 2 + joint_rows + if c3 { c3_joints.len() } else { 0 };
+    positions(
+        (0..nc)
+            .map(|r| (constraint_key(r, n, joint_rows, c3_joints), r))
+            .collect(),
+    )
+}
+
+/// A constraint row's place along the chain: the end point's after every joint, a joint's
+/// equations (position, tangent, C3) at the joint.
+pub(super) fn constraint_key(r: usize, n: usize, joint_rows: usize, c3_joints: &[usize]) -> f64 {
+    if r < 2 {
+        n as f64
+    } else if r < 2 + joint_rows {
+        (1 + (r - 2) / 3) as f64 - 0.1
+    } else {
+        c3_joints
+            .get(r - 2 - joint_rows)
+            .map_or(n as f64, |&j| j as f64 - 0.1)
+    }
+}
+
+/// Least-norm steps −Jᵀ(JJᵀ)⁻¹c onto linearised constraints J·δ = −c, J factored once. Ordered
+/// along the chain ([`constraint_order`]), the Gram matrix JJᵀ is a band (two joints' equations
+/// share unknowns only where they are neighbours): it is assembled from each column's few
+/// nonzero rows and factored by [`Band`]'s Cholesky, where a dense product and factor cost
+/// O(rows²·unknowns).
+pub(super) struct LeastNorm {
+    /// Per unknown: its nonzero rows (in the band order) and entries.
+    pub(super) columns: Vec<Vec<(usize, f64)>>,
+    /// Each constraint row's place in the band order.
+    pub(super) rows: Vec<usize>,
+    pub(super) gram: BandCholesky,
+}
+
+impl LeastNorm {
+    /// `None` where JJᵀ is singular (a constraint no free unknown moves) or the sizes differ.
+    pub(super) fn new(jc: &DMatrix<f64>, rows: &[usize]) -> Option<Self> {
+        let (nc, m) = jc.shape();
+        if rows.len() != nc {
+            return None;
+        }
+        let columns: Vec<Vec<(usize, f64)>> = (0..m)
+            .map(|j| {
+                (0..nc)
+                    .filter(|&r| jc[(r, j)] != 0.0)
+                    .map(|r| (rows[r], jc[(r, j)]))
+                    .collect()
+            })
+            .collect();
+        let width = columns
+            .iter()
+            .map(|col| {
+                let lo = col.iter().map(|&(p, _)| p).min().unwrap_or(0);
+                let hi = col.iter().map(|&(p, _)| p).max().unwrap_or(0);
+                hi - lo
+            })
+            .max()
+            .unwrap_or(0);
+        let mut gram = Band::zeros(nc, width);
+        for col in &columns {
+            for (a, &(p, u)) in col.iter().enumerate() {
+                for &(q, v) in &col[..=a] {
+                    gram.add(p, q, u * v);
+                }
+            }
+        }
+        Some(LeastNorm {
+            columns,
+            rows: rows.to_vec(),
+            gram: gram.factor()?,
+        })
+    }
+
+    /// The step for the constraint values `c`; `None` where its length differs.
+    pub(super) fn step(&self, c: &DVector<f64>) -> Option<DVector<f64>> {
+        if c.len() != self.rows.len() {
+            return None;
+        }
+        let mut rhs = vec![0.0; c.len()];
+        for (r, &p) in self.rows.iter().enumerate() {
+            rhs[p] = c[r];
+        }
+        let y = self.gram.solve(&rhs);
+        Some(DVector::from_iterator(
+            self.columns.len(),
+            self.columns
+                .iter()
+                .map(|col| -col.iter().map(|&(p, v)| v * y[p]).sum::<f64>()),
+        ))
+    }
+}
+
+/// The Levenberg–Marquardt fit in the shooting form from `x` and its evaluation `e`, moving
+/// both (and the samples' assignment): each step solves the damped Gauss–Newton system with the
+/// linearised constraints (KKT, Marquardt's scaling) and is projected back onto them; `None`
+/// where no chain could be built.
+pub(super) fn levenberg_marquardt(
+    solver: &Solver,
+    layout: &Layout,
+    x: &mut Params,
+    assign: &mut [Vec<usize>],
+    e: &mut Evaluation,
+) -> Option<()> {
+    let vars = layout.shooting_vars();
+    let c3_joints = layout.c3_joints();
+    let m = vars.len();
+    // The unknowns that reach each segment: its residuals' only nonzero columns.
+    let reaching: Vec<Vec<usize>> = (0..layout.n())
+        .map(|k| {
+            (0..m)
+                .filter(|&i| {
+                    let (k0, k1) = layout.shooting_reach(vars[i]);
+                    (k0..=k1).contains(&k)
+                })
+                .collect()
+        })
+        .collect();
+    // The KKT system's band order: the layout, and so the rows, stay fixed through the solve.
+    let nc = constraint_order(Form::Shooting, layout.n(), solver.c3, &c3_joints).len();
+    let position = band_order(layout, &vars, nc, &c3_joints);
+    let mut lambda = INITIAL_DAMPING;
+    let mut growth = DAMPING_GROWTH;
+    for iteration in 0..MAX_ITERATIONS {
+        let (jr, jc) = shooting_jacobian(solver, layout, x, e, &vars, &c3_joints)?;
+        let c = solver.constraints(Form::Shooting, &e.segments, x, &c3_joints);
+        if c.len() != nc {
+            return None;
+        }
+        let (mut a, mut g) = normal_equations(solver, &jr, e, assign, &reaching);
+        let floor = DIAGONAL_FLOOR * a.diagonal().max().max(f64::MIN_POSITIVE);
+        // An unknown on its bound that the descent direction pushes beyond it is held there
+        // (an active set): clamped after the step instead, it bends every step the model
+        // predicts, and the damping rises until the steps are too short to matter. So is one
+        // that the step itself pushes beyond (the joint equations can ask it of an unknown the
+        // gradient alone would not move there: a stroke's end curvature on the cap, clamped
+        // back from each trial, left the model eight times too hopeful, ρ ≈ 0.1, for ten
+        // steps); the step is then solved again.
+        let mut jc = jc;
+        let mut held = vec![false; m];
+        let hold = |i: usize,
+                    held: &mut [bool],
+                    a: &mut DMatrix<f64>,
+                    g: &mut DVector<f64>,
+                    jc: &mut DMatrix<f64>| {
+            held[i] = true;
+            a.row_mut(i).fill(0.0);
+            a.column_mut(i).fill(0.0);
+            a[(i, i)] = floor.max(1.0);
+            g[i] = 0.0;
+            jc.column_mut(i).fill(0.0);
+        };
+        for (i, &var) in vars.iter().enumerate() {
+            if layout.pushed_beyond(var, x, -g[i], solver.log_kappa) {
+                hold(i, &mut held, &mut a, &mut g, &mut jc);
+            }
+        }
+        let mut accepted = None;
+        'assemble: for _ in 0..=m {
+            // The KKT system [A + λD, Jcᵀ; Jc, 0] in the band order, as its nonzero entries.
+            let mut entries = Vec::new();
+            for j in 0..m {
+                for i in 0..m {
+                    if a[(i, j)] != 0.0 || i == j {
+                        entries.push((position[i], position[j], a[(i, j)]));
+                    }
+                }
+                for r in 0..nc {
+                    if jc[(r, j)] != 0.0 {
+                        entries.push((position[m + r], position[j], jc[(r, j)]));
+                        entries.push((position[j], position[m + r], jc[(r, j)]));
+                    }
+                }
+            }
+            let (lower, upper) = entries.iter().fold((0, 0), |(l, u), &(i, j, _)| {
+                (l.max(i.saturating_sub(j)), u.max(j.saturating_sub(i)))
+            });
+            let mut rhs = vec![0.0; m + nc];
+            for i in 0..m {
+                rhs[position[i]] = -g[i];
+            }
+            for r in 0..nc {
+                rhs[position[m + r]] = -c[r];
+            }
+            while lambda <= MAX_DAMPING {
+                let mut kkt = BandMatrix::zeros(m + nc, lower, upper);
+                for &(i, j, v) in &entries {
+                    kkt.add(i, j, v);
+                }
+                for i in 0..m {
+                    kkt.add(position[i], position[i], lambda * a[(i, i)].max(floor));
+                }
+                let Some(solution) = kkt.solve(&rhs) else {
+                    lambda *= growth;
+                    growth *= 2.0;
+                    continue;
+                };
+                let delta = DVector::from_iterator(m, (0..m).map(|i| solution[position[i]]));
+                let beyond: Vec<usize> = (0..m)
+                    .filter(|&i| {
+                        !held[i] && layout.pushed_beyond(vars[i], x, delta[i], solver.log_kappa)
+                    })
+                    .collect();
+                if !beyond.is_empty() {
+                    for i in beyond {
+                        hold(i, &mut held, &mut a, &mut g, &mut jc);
+                    }
+                    continue 'assemble;
+                }
+                // The decrease of Σr² the Gauss–Newton model predicts for this step. Below the
+                // stopping fraction the step could not continue the solve even if it were
+                // accepted: converged (or damped to a standstill), without spending a
+                // projection. A round of [`minimax`] takes its first step whatever it gains:
+                // the reweighting moves the weighted cost's minimum by little (often under the
+                // fraction: the round then ended where it began and the next reweighted the
+                // same chain), but towards the largest distance, which is what the round is for.
+                let predicted = -(2.0 * g.dot(&delta) + delta.dot(&(&a * &delta)));
+                let stop_below = if solver.minimax && iteration == 0 {
+                    0.0
+                } else {
+                    RELATIVE_DECREASE * e.cost
+                };
+                if !(predicted > stop_below) {
+                    break;
+                }
+                let mut trial = moved(layout, x, &vars, &delta);
+                let projected = project(
+                    Form::Shooting,
+                    solver,
+                    layout,
+                    &mut trial,
+                    &c3_joints,
+                    Some(&jc),
+                )
+                // Chord steps that do not reach the constraints: once more with fresh
+                // Jacobians before the step is refused (see [`project`]).
+                .or_else(|| {
+                    trial = moved(layout, x, &vars, &delta);
+                    project(Form::Shooting, solver, layout, &mut trial, &c3_joints, None)
+                });
+                let Some(segments) = projected else {
+                    lambda *= growth;
+                    growth *= 2.0;
+                    continue;
+                };
+                let t = solver.evaluate(segments, assign, Some((e, assign)));
+                if t.cost < e.cost {
+                    let rho = ((e.cost - t.cost) / predicted).min(1.0);
+                    lambda *= (1.0 - (2.0 * rho - 1.0).powi(3)).max(1.0 / 3.0);
+                    growth = DAMPING_GROWTH;
+                    accepted = Some((trial, t));
+                    break;
+                }
+                lambda *= growth;
+                growth *= 2.0;
+            }
+            break;
+        }
+        let Some((trial, t)) = accepted else {
+            break;
+        };
+        let decrease = e.cost - t.cost;
+        let before = e.cost;
+        *x = trial;
+        *e = t;
+        let within = largest_distance(e) <= solver.tolerance;
+        if solver.minimax && within {
+            break;
+        }
+        if !reassigned(solver, e, assign)
+            && (decrease <= RELATIVE_DECREASE * before
+                || (decrease <= WITHIN_DECREASE * before && within))
+        {
+            break;
+        }
+    }
+    Some(())
+}
+
+/// The constrained fit from `x` (shooting form, see [`Form`]), then the answer laid out forward
+/// so that the joints meet exactly; the forward chain's evaluation, or `None` where no chain
+/// meeting the constraints could be built. `x` keeps the shooting solution (the next cut starts
+/// from it). `near`: an evaluation of a chain close to `x`'s with its assignment (the last
+/// round's, in [`minimax`]), whose feet seed the first evaluation's where a segment holds the
+/// same samples.
+pub(super) fn solve(
+    solver: &Solver,
+    layout: &Layout,
+    x: &mut Params,
+    assign: &mut [Vec<usize>],
+    near: Option<(&Evaluation, &[Vec<usize>])>,
+) -> Option<Evaluation> {
+    let c3_joints = layout.c3_joints();
+    let segments = match project(Form::Shooting, solver, layout, x, &c3_joints, None) {
+        Some(segments) => segments,
+        None => {
+            // The G1 chain's joints are too far from a smooth chain's for the joint equations
+            // (a tangent gap of 1.5 rad where no α ≤ 0 turns a segment ending at an inflection
+            // as far as the G1 one did): the chain laid out forward from its start meets them by
+            // construction and leaves only its end point to move. Its poses start the fit.
+            let (mut forward, segments) = laid_forward(solver, layout, x, &c3_joints)?;
+            forward.pose = segments.iter().map(|s| (s.start(), s.theta0())).collect();
+            *x = forward;
+            segments
+        }
+    };
+    let mut e = solver.evaluate(segments, assign, near);
+    reassigned(solver, &mut e, assign);
+    levenberg_marquardt(solver, layout, x, assign, &mut e)?;
+    let (_, segments) = laid_forward(solver, layout, x, &c3_joints)?;
+    // The forward chain is the solution's to the joints' gaps (a tenth of the tolerance): each
+    // foot is polished from the solution's own, not searched for again along the whole
+    // segment. A polished foot is a local nearest point, its distance never below the global
+    // one, so a chain found within the tolerance is within it.
+    Some(solver.evaluate(segments, assign, Some((&e, assign))))
+}
+
+/// The chain of `x` laid out forward from its first pose, its end point brought onto the
+/// target by [`project`]: the unknowns there and the chain; `None` where the projection fails.
+pub(super) fn laid_forward(
+    solver: &Solver,
+    layout: &Layout,
+    x: &Params,
+    c3_joints: &[usize],
+) -> Option<(Params, Vec<LacSegment>)> {
+    let mut forward = x.clone();
+    forward.theta0 = forward.pose[0].1;
+    // A free end is where the chain laid out forward ends: nothing to meet but C3's equations.
+    if layout.free_end() {
+        let laid = layout.build_form(Form::Forward, &forward).ok()?;
+        forward.end = laid.last()?.end();
+        if !solver.c3 {
+            return Some((forward, laid));
+        }
+    }
+    let segments = project(Form::Forward, solver, layout, &mut forward, c3_joints, None)?;
+    Some((forward, segments))
+}

@@ -1,0 +1,888 @@
+//! Curvature-continuous chains: one curvature per joint (G2) and, on request, one dκ/ds per joint
+//! as well (C3, the compound rhythm of Ziatdinov, Miura et al.).
+//!
+//! ## Two forms of the same chain
+//! A chain of n segments is fixed by one signed curvature per joint, κⱼ = σⱼ·e^{uⱼ}
+//! (j = 0..n, the sign σⱼ fixed and the log-magnitude uⱼ free, or κⱼ = 0 held fixed at an
+//! *inflection joint*, below), and per segment its length Sₖ = e^{vₖ} and its αₖ. Segment k is
+//! the LAC with end curvatures κₖ, κₖ₊₁: the curvature of two neighbours at their joint is the
+//! one number κₖ₊₁, so G2 holds exactly, not to a tolerance. Where the segments sit is said in
+//! one of two ways:
+//!
+//! * *forward*: the chain is laid out from its start point P₀ and start angle θ₀,
+//!   each segment from the end pose of the one before. Position and tangent continuity hold by
+//!   construction too; the only position constraint left is the end point Pₑ. There are
+//!   1 + (n + 1) + 2n unknowns, one per interior joint fewer than a G1 chain's, as G2 requires.
+//!   But every joint turns the rest of the chain: a parameter near the start swings the end,
+//!   and the fit crawls (a 200 px spring drifted 30 px from its samples).
+//! * *shooting*: every segment has its own start pose (Pₖ, θₖ), and the joints' positions and
+//!   tangents are equality constraints (three per joint, two for Pₑ). A parameter moves one
+//!   segment, two for a joint's curvature: as well conditioned on fifty segments as on two.
+//!
+//! P₀ and Pₑ are fixed where they are corners (shared with the neighbouring piece or part). At
+//! the stroke's own start and end each moves across its tangent by one unknown: the B-spline's
+//! end that the G1 chain starts from carries the first sample's noise (on a whole-pixel grid up
+//! to half a pixel's diagonal off the curve drawn), and pinned there a smooth chain, with one
+//! unknown per joint fewer than a G1 one, pays for it along its whole first segment. Along the
+//! tangent an end would slide beyond the last sample at no cost, so it does not move that way.
+//!
+//! The fit runs in the shooting form; its answer is then moved into the forward form by a few
+//! Newton steps on the end point, so that joints meet exactly in the final chain.
+//!
+//! ## The fit: constrained Levenberg–Marquardt
+//! The unknowns minimise Σ rᵢ², rᵢ the signed distance from sample i to its segment, subject to
+//! the constraints and, for C3, to dκ/ds⁻ = dκ/ds⁺ at every interior joint with κ ≠ 0. Each step
+//! solves the damped Gauss–Newton system with the linearised constraints (a KKT system,
+//! Marquardt's scaling with a floor, Nielsen's damping update; an unknown on its bound that the
+//! step would push beyond it is held; ordered along the chain, the system is banded and solved in
+//! time linear in the segments) and is projected back onto the constraints by least-norm
+//! Newton steps with the step's own constraint Jacobian (a chord method; a trial they do not
+//! bring onto the constraints is projected again with fresh Jacobians, and refused like one that
+//! raises the cost where those fail too), so every iterate is a
+//! chain whose joints meet to a tenth of the tolerance (the answer's joints meet exactly once it
+//! is laid out forward). The Jacobian: a change of one unknown rebuilds its one or two
+//! segments, differenced at the samples' foot points (a pose's columns are those of a rigid
+//! motion, and a length's follows from the curvatures' by a scaling identity). Samples near a joint are handed to the
+//! neighbour that is nearer after every accepted step: a joint slides along the data as the fit
+//! moves it.
+//!
+//! Starting point: the G1 chain (its joints' poses, lengths and α). A joint's curvature starts
+//! at the B-spline's there (the G1 chain's two sides differ, the C2 B-spline within the
+//! tolerance of the same samples has one value), each α at the one that keeps the G1 segment's
+//! turning. A G1 segment that bends into a joint the smooth chain holds at κ = 0 (an arc into an
+//! inflection) keeps its shape but for a transition spiral at that end, as long as a clothoid
+//! whose shift from the arc is the tolerance. Where the first fit ends with an α pressed on its
+//! bound while the G1 chain's α lies inside, the fit from the G1 α is run as well and the lower
+//! cost kept (a local minimum: a planted S of two clothoids on a pixel grid came back as four
+//! segments at α = −3). Where the fit cannot start from there (the first projection onto the
+//! constraints fails: 16 parts of the fixture strokes) or does not end within the tolerance for
+//! another reason than the curvature bound (below), it is run again with each joint's curvature
+//! at the geometric mean of the G1 chain's two sides. Where
+//! the joint equations cannot be met from the G1 chain's poses, the chain is laid out forward from
+//! its start instead (the joints then meet by construction and only the end point must be moved
+//! there) and its poses start the fit. A part of one segment has no joint to make smooth and is
+//! kept as it is.
+//!
+//! ## Inflections and lines
+//! A log-aesthetic segment with α ≥ 0 cannot reach κ = 0 at a finite point, so where the chain
+//! changes the sign of its curvature the joint is held at κ = 0 and the segments on both sides
+//! take α ≤ [`ZERO_END_ALPHA`] (α = −1, the clothoid, is inside that range): what a user gets
+//! there is a spiral leaving the inflection, never a tiny segment with a huge curvature. A line
+//! of the G1 chain stays a line and its neighbours meet it with κ = 0. A segment between two
+//! inflections would have to be a line; it is cut at its middle first. Where the α range allows
+//! no negative α (`--alpha 1`, say), an inflection cannot be G2 and the chain stays G1.
+//!
+//! ## Tolerance and honesty
+//! A joint may not bend tighter than a radius of [`MIN_RADIUS_TOLERANCES`] tolerances, nor turn
+//! more than [`MAX_TURN_PER_SAMPLE`] between two samples (a tighter bend is a corner the samples
+//! cannot tell from a curve), and a segment may not grow beyond [`MAX_LENGTH_FACTOR`] times its
+//! starting length nor turn more than [`MAX_EXTRA_TURNING`] beyond its starting turning. A G1
+//! joint that bends beyond those bounds (a hook, a needle) becomes a
+//! corner of the smooth chain, and the parts between such corners are fitted on their own,
+//! between fixed end points. So does a joint the fit presses against the curvature bound while
+//! it still misses the tolerance (the G1 joint nearest it), as soon as a round of the fit ends
+//! so: the samples ask for a tighter bend there than a smooth chain may make (on the fixture
+//! strokes, 18 such corners made 16 more curves G2 throughout; cutting more segments or starting
+//! again from other joint curvatures first never found a smooth chain there, and took a third
+//! of the painting's smooth fit). And where a part fails whose first (last) segment leaves its corner
+//! bending beyond the bound (a hook at a corner, κ = 12 /px on painting strokes), that segment's
+//! other joint becomes a corner and it stays as the G1 chain has it, but for its tangents: a
+//! segment between two corners has both free (a corner is G0), and where the G1 chain's curl
+//! beyond the bound they are turned as the G1 chain's piece ends are (`soften_isolated`). One
+//! that still curls beyond the bound at a free end after those turns hooks there, and says so:
+//! it becomes the line between its ends where that holds its samples, else a line to the sample
+//! next to the curl and a segment on from it, meeting at a new corner (`src/chain/unhook.rs`). On
+//! the nine recorded fixture files 28 segments bent beyond the bound (4 tighter than half a
+//! tolerance in radius) before the hooks were cut, none now, for 26 segments more (820 → 846,
+//! most of them lines of a pixel or three at a painting stroke's reversal). A least-squares chain that
+//! misses the tolerance by a little is first refitted towards the minimax fit of the same
+//! segments (Lawson's reweighting, a few rounds). When the solved chain still leaves a
+//! sample farther than the tolerance from its nearest segment, every segment that misses is cut
+//! at its middle (a new joint with that point's curvature: the two halves are the same curve, so
+//! the chain stays on its constraints) and the fit runs again, at most [`MAX_CUT_ROUNDS`] rounds and until
+//! [`STALLED_ROUNDS`] rounds in a row bring the worst sample no nearer. When that is not enough,
+//! a part has more than [`MAX_SEGMENTS`] segments, or a chain cannot be built at all, the part
+//! keeps its G1 segments and the chain says [`Continuity::G1`].
+//!
+//! ## Files
+//! This file holds the parts' orchestration (corners, cut rounds, minimax, the record);
+//! `layout.rs` the unknowns and the two forms, `solver.rs` the residuals, joint equations and
+//! the samples' assignment, `start.rs` the starting chain and the cuts, `jacobian.rs` the
+//! differenced Jacobians, `lm.rs` the constrained Levenberg–Marquardt solve with its projections
+//! and the minimax rounds. A segment that still hooks at a corner is cut in `../unhook.rs`.
+
+use super::band::{Band, BandCholesky};
+use super::band_lu::BandMatrix;
+use super::fit::{
+    Chain, ChainInput, ChainSegment, JointKind, nearest_deviation, soften_fits, tile_ranges,
+};
+use crate::bspline::project::Pieces;
+use crate::geom::{Point, Vec2};
+use crate::lac::alpha_search::SpanFitOptions;
+use crate::lac::deviation::{deviation, deviation_near};
+use crate::lac::{AlphaChoice, LacError, LacSegment};
+use nalgebra::{DMatrix, DVector};
+use serde::{Deserialize, Serialize};
+
+mod jacobian;
+mod layout;
+mod lm;
+mod solver;
+mod start;
+
+use jacobian::*;
+use layout::*;
+use lm::*;
+use solver::*;
+use start::*;
+
+/// Continuity at the smooth (non-corner) joints of a chain.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum Continuity {
+    /// Position and tangent (the seed paper's chains).
+    G1,
+    /// Position, tangent and curvature: the default (a curve the smooth fit cannot hold within
+    /// its tolerance stays G1 and says so).
+    #[default]
+    G2,
+    /// Position, tangent, curvature and its arc-length derivative dκ/ds: a continuous
+    /// logarithmic curvature graph across the joint (compound rhythm).
+    C3,
+}
+
+impl Continuity {
+    /// Every mode's name, as the CLI, the service and the documents spell it.
+    pub const NAMES: [&'static str; 3] = ["g1", "g2", "c3"];
+
+    /// The mode's name (`g1`, `g2`, `c3`).
+    pub fn name(self) -> &'static str {
+        match self {
+            Continuity::G1 => "g1",
+            Continuity::G2 => "g2",
+            Continuity::C3 => "c3",
+        }
+    }
+}
+
+impl std::str::FromStr for Continuity {
+    type Err = String;
+
+    fn from_str(s: &str) -> Result<Self, String> {
+        match s.to_ascii_lowercase().as_str() {
+            "g1" => Ok(Continuity::G1),
+            "g2" => Ok(Continuity::G2),
+            "c3" => Ok(Continuity::C3),
+            _ => Err(format!(
+                "continuity must be one of {}, got {s:?}",
+                Continuity::NAMES.join(", ")
+            )),
+        }
+    }
+}
+
+impl std::fmt::Display for Continuity {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(self.name())
+    }
+}
+
+/// Largest α of a segment with a zero-curvature end. ρ^α must reach 0 there, which needs α < 0;
+/// close to 0 the segment's curvature leaves zero so steeply (κ ∝ s^{−1/α}) that its evaluation
+/// loses accuracy, and no drawn inflection looks like that. −0.05 keeps the whole practical
+/// range (the clothoid −1, and the −3..0 the α search offers) open.
+pub const ZERO_END_ALPHA: f64 = -0.05;
+
+/// Smallest radius of curvature of a smooth chain, in tolerances: a bend tighter than half a
+/// tolerance turns inside a disc the samples cannot tell from a corner; the G1 chain's needles
+/// (κ = 75 /px on a three-sample segment at 0.5 px) were exactly that.
+pub const MIN_RADIUS_TOLERANCES: f64 = 0.5;
+
+/// Largest turning between two consecutive samples (radians) a smooth chain may claim: the
+/// curvature at a joint is at most this over the piece's median sample spacing. Beyond a quarter
+/// turn between two samples they cannot tell a tight curve from a corner; the G1 chain's needles
+/// (κ = 11.8 /px on a spring sampled every 5 px: 59 rad per sample) are what the bound removes,
+/// and a G1 joint beyond it becomes a corner. On the fixture strokes 1 rad gave 162 of 254
+/// curves G2 (109 such corners), π/2 gives 185 (97), 3 rad 202 (71).
+pub const MAX_TURN_PER_SAMPLE: f64 = std::f64::consts::FRAC_PI_2;
+
+/// Largest radius of curvature at a joint, in extents of the piece: flatter than that is a
+/// line to any tolerance, and the log-curvature must stay finite (e^u underflows to κ = 0,
+/// which only an inflection joint may have).
+pub const MAX_RADIUS_EXTENTS: f64 = 1e6;
+
+/// Largest length of a segment as a multiple of its starting length: a segment that grows
+/// beyond that has left its samples (a spiral winding between two samples), and the step is
+/// refused.
+pub const MAX_LENGTH_FACTOR: f64 = 10.0;
+
+/// Largest turning of a segment beyond its starting (G1) segment's, radians: a chain whose
+/// segment winds further has left its samples (a projection onto the joint equations from a far
+/// start went through spirals of α = −3 turning 50 rad on a 12-sample stroke, each of them a
+/// quadrature of two dozen panels), and the projection refuses it like one that does not
+/// converge. Half a turn more than the samples' own segment is beyond any drawn curve.
+pub const MAX_EXTRA_TURNING: f64 = std::f64::consts::PI;
+
+/// Most segments of a chain the smooth fit solves (beyond, the G1 chain is kept). Its KKT
+/// system (about nine rows per segment: six unknowns, three joint equations) is solved in band
+/// order (a bandwidth of about fifteen whatever the length), so its cost grows linearly with
+/// the segments; the limit bounds the cut rounds' work on a part the smooth fit
+/// cannot hold. At 40 a long part of the scribble fixture (95 samples that turn fast, 29 G1
+/// segments) stayed G1, its cut rounds passing 40 on the way; at 60 it is G2 with 54, every
+/// fixture curve G2 (the nine files 0.43 → 0.49 s), and the Prius line at 0.1 mm keeps its 35.
+pub const MAX_SEGMENTS: usize = 60;
+
+/// Rounds of cuts in a row that do not bring the worst sample nearer before the smooth fit of
+/// a part gives up. A round's cuts can move the worst sample elsewhere before the next round
+/// resolves it: on the fixture strokes 1 gave 157 of 254 curves G2 in 12 s, 2 gives 162 in 16 s.
+pub const STALLED_ROUNDS: usize = 2;
+
+/// Rounds of cutting (every segment that misses the tolerance, at its middle) before the
+/// smooth fit gives up and the G1 chain is kept; it also gives up after [`STALLED_ROUNDS`]
+/// rounds that do not bring the worst sample nearer. Six rounds can cut a segment into 64, as the G1 chain's
+/// subdivision can ([`super::ChainOptions::max_depth`]).
+pub const MAX_CUT_ROUNDS: usize = 6;
+
+/// An unknown within this of its bound (α, a log-curvature, a log-length: all dimensionless)
+/// is on it.
+const BOUND_SLACK: f64 = 1e-9;
+
+/// Largest miss, in tolerances, that [`MINIMAX_ROUNDS`] try to recover: Lawson's iteration
+/// lowers the largest distance by at most the gap between the least-squares and the minimax
+/// fits, a few tens of percent.
+const MINIMAX_REACH: f64 = 1.5;
+
+/// The joints of a chain in the shooting form (the fit's start and every Levenberg–Marquardt
+/// trial) are met to this fraction of the tolerance, not exactly: the next step's linearised
+/// constraints carry the gaps left (the KKT system's right-hand side), and the fit's answer is
+/// laid out forward, joints meeting by construction and the end point to [`END_TOLERANCE`],
+/// before any distance is reported. Exact trials took a Newton step per factor of 3 or so from a step's violation
+/// (1e-3 … 1e-1 of the extent) down to 1e-10, most of the smooth fit's time. On the fixture
+/// strokes in g2, gaps of 1e-4 of the extent gave 1.40 s for the nine files (1.81 s exact), 1e-3
+/// 1.22 s, both with 261 of 263 curves G2; 1e-2 lost a curve. A tenth of the tolerance (over
+/// an extent of 300 tolerances, 3e-4) gives 1.24 s.
+const TRIAL_GAP_TOLERANCES: f64 = 0.1;
+
+/// The end point is met to this fraction of the piece's extent (rounding of the integration is
+/// ~1e-13 of a segment's length).
+const END_TOLERANCE: f64 = 1e-10;
+
+/// A C3 joint's dκ/ds is met to this fraction of its magnitude (the issue asks for 1e-9 relative
+/// or better on the curvature; dκ/ds is one derivative more, from the same closed form).
+const C3_TOLERANCE: f64 = 1e-9;
+
+/// Where the smooth fit starts and what it keeps.
+pub(crate) struct SmoothInput<'a> {
+    /// The piece's chain input.
+    pub input: &'a ChainInput<'a>,
+    /// The G1 chain to start from.
+    pub chain: &'a Chain,
+    /// The tolerance.
+    pub tolerance: f64,
+    /// Chord error of the distance evaluations.
+    pub chord_error: f64,
+    /// α allowed per segment.
+    pub alpha: AlphaChoice,
+    /// G2 or C3 (G1 returns the chain unchanged).
+    pub continuity: Continuity,
+}
+
+impl SmoothInput<'_> {
+    /// The α search of a segment refitted between free tangents (softened, or cut at a hook):
+    /// within the curvature bound `cap`, walking from `guess`, and abandoned beyond the tolerance
+    /// (only a segment within it is kept: a guess farther off is not searched on).
+    pub(super) fn soften_options(&self, cap: f64, guess: Option<f64>) -> SpanFitOptions {
+        SpanFitOptions {
+            choice: self.alpha,
+            max_curvature: cap,
+            guess,
+            abandon_above: self.tolerance,
+            unreachable_above: self.tolerance,
+            ..SpanFitOptions::new(self.chord_error)
+        }
+    }
+}
+
+/// The chain `chain` refitted with the continuity of `smooth.continuity` (see the module
+/// documentation); `None` where it cannot be done within the tolerance (the G1 chain stands).
+pub(crate) fn smooth_chain(smooth: &SmoothInput) -> Option<Chain> {
+    let chain = smooth.chain;
+    if smooth.continuity == Continuity::G1 || chain.segments.is_empty() {
+        return None;
+    }
+    // A joint where the G1 chain bends tighter than the samples resolve (a hook, a fast tight
+    // turn: beyond the curvature bound) cannot be smooth under that bound: it becomes a corner,
+    // and the parts between such joints are fitted on their own, each from and to its fixed
+    // end points.
+    let cap = curvature_cap(smooth.input.points, smooth.tolerance);
+    let segments = &chain.segments;
+    let mut cuts: Vec<usize> = (1..segments.len())
+        .filter(|&j| {
+            segments[j - 1]
+                .segment
+                .kappa1()
+                .abs()
+                .max(segments[j].segment.kappa0().abs())
+                > cap
+        })
+        .collect();
+    cuts.push(segments.len());
+    let mut out: Vec<ChainSegment> = Vec::with_capacity(segments.len());
+    let mut max_deviation: f64 = 0.0;
+    let mut all_smooth = true;
+    // Whether some part had joints to make smooth: otherwise every segment is the G1 chain's,
+    // holding the same samples, and so is the chain's largest distance.
+    let mut refitted = false;
+    let mut from = 0;
+    let mut next = 0;
+    while next < cuts.len() {
+        let to = cuts[next];
+        refitted |= to - from > 1;
+        let mut part = Chain {
+            segments: segments[from..to].to_vec(),
+            max_deviation: chain.max_deviation,
+            within_tolerance: chain.within_tolerance,
+            refined: chain.refined,
+            continuity: chain.continuity,
+        };
+        if from > 0 {
+            part.segments[0].start = JointKind::Corner;
+        }
+        if to < segments.len()
+            && let Some(last) = part.segments.last_mut()
+        {
+            last.end = JointKind::Corner;
+        }
+        let fitted = smooth_part(&SmoothInput {
+            chain: &part,
+            ..*smooth
+        });
+        let fitted = match fitted {
+            Ok(f) => f,
+            // The fit pressed a joint against the curvature bound and still missed: the samples
+            // bend there tighter than a smooth chain may, as at the joints cut above. It becomes
+            // a corner and the part is fitted as two.
+            Err(Missed::Bound(j)) if j > 0 && j < part.segments.len() => {
+                cuts.insert(next, from + j);
+                continue;
+            }
+            // A part whose first (last) segment leaves its corner bending beyond the bound (a
+            // hook at a corner: κ = 12 /px on painting strokes) cannot start (end) smooth there:
+            // that segment's other joint becomes a corner, and it stays as the G1 chain has it.
+            Err(_) if part.segments.len() >= 2 && part.segments[0].segment.kappa0().abs() > cap => {
+                cuts.insert(next, from + 1);
+                continue;
+            }
+            Err(_)
+                if part.segments.len() >= 2
+                    && part.segments[part.segments.len() - 1]
+                        .segment
+                        .kappa1()
+                        .abs()
+                        > cap =>
+            {
+                cuts.insert(next, to - 1);
+                continue;
+            }
+            Err(_) => {
+                all_smooth = false;
+                part
+            }
+        };
+        max_deviation = max_deviation.max(fitted.max_deviation);
+        out.extend(fitted.segments);
+        from = to;
+        next += 1;
+    }
+    if cuts.len() == 1 && !all_smooth {
+        return None;
+    }
+    // A segment between two corners (or a corner and the stroke's end) has both tangents free,
+    // but kept the G1 chain's, which curl where the G1 joint bent beyond the bound: its ends are
+    // turned as the G1 chain's piece ends are (see [`soften_tries`]).
+    for segment in &mut out {
+        refitted |= soften_isolated(smooth, segment, cap);
+    }
+    // The parts' ranges tiled as one piece: a segment holding no samples has the one-sample
+    // range of the last sample before it, also at the start of a part.
+    let tile = |out: &mut Vec<ChainSegment>| {
+        let starts: Vec<Option<usize>> =
+            out.iter().map(|s| s.params.map(|_| s.samples.0)).collect();
+        for (s, range) in out
+            .iter_mut()
+            .zip(tile_ranges(&starts, smooth.input.samples))
+        {
+            s.samples = range;
+        }
+    };
+    tile(&mut out);
+    // One that still curls beyond the bound hooks there: it becomes a line, or a line and a
+    // segment meeting at a corner (see `src/chain/unhook.rs`), each holding its share of the
+    // segment's own samples (its tiled range); the ranges are tiled again after.
+    let mut unhooked = Vec::with_capacity(out.len());
+    for segment in out {
+        let own: Vec<usize> = match segment.params {
+            Some(_) => (0..smooth.input.points.len())
+                .filter(|&i| {
+                    (segment.samples.0..=segment.samples.1).contains(&smooth.input.indices[i])
+                })
+                .collect(),
+            None => Vec::new(),
+        };
+        match super::unhook::unhook(smooth, &segment, &own, cap) {
+            Some(replacement) => {
+                refitted = true;
+                unhooked.extend(replacement);
+            }
+            None => unhooked.push(segment),
+        }
+    }
+    let mut out = unhooked;
+    tile(&mut out);
+    if !refitted {
+        return Some(Chain {
+            segments: out,
+            continuity: smooth.continuity,
+            ..chain.clone()
+        });
+    }
+    // The whole chain's largest distance, each sample to its nearest segment: a part kept G1
+    // carries the whole G1 chain's figure, and a sample may lie nearer a neighbouring part.
+    let points = smooth.input.points;
+    let lists: Vec<Vec<usize>> = out
+        .iter()
+        .map(|s| {
+            (0..points.len())
+                .filter(|&i| (s.samples.0..=s.samples.1).contains(&smooth.input.indices[i]))
+                .collect()
+        })
+        .collect();
+    let own: Vec<Vec<f64>> = out
+        .iter()
+        .zip(&lists)
+        .map(|(s, list)| {
+            let pts: Vec<Point> = list.iter().map(|&i| points[i]).collect();
+            deviation(&s.segment, &pts, smooth.chord_error).distances
+        })
+        .collect();
+    let segments: Vec<LacSegment> = out.iter().map(|s| s.segment).collect();
+    let max_deviation = nearest_deviation(points, &segments, &lists, &own, smooth.chord_error);
+    Some(Chain {
+        segments: out,
+        max_deviation,
+        within_tolerance: max_deviation <= smooth.tolerance,
+        refined: chain.refined,
+        continuity: if all_smooth {
+            smooth.continuity
+        } else {
+            Continuity::G1
+        },
+    })
+}
+
+/// Refits `s` with turned end tangents where both its ends are free (corners, or the stroke's
+/// own ends) and one of them bends beyond `cap`: the first of [`soften_tries`] whose segment
+/// (α searched again, within `cap`) holds its samples within the tolerance. Returns whether it
+/// was refitted.
+fn soften_isolated(smooth: &SmoothInput, s: &mut ChainSegment, cap: f64) -> bool {
+    let bend = |seg: &LacSegment| seg.kappa0().abs().max(seg.kappa1().abs());
+    let segment = s.segment;
+    if !(s.start.tangent_free() && s.end.tangent_free())
+        || bend(&segment) <= cap
+        || s.params.is_none()
+    {
+        return false;
+    }
+    let input = smooth.input;
+    let list: Vec<usize> = (0..input.points.len())
+        .filter(|&i| (s.samples.0..=s.samples.1).contains(&input.indices[i]))
+        .collect();
+    if list.is_empty() {
+        return false;
+    }
+    let points: Vec<Point> = list.iter().map(|&i| input.points[i]).collect();
+    let options = smooth.soften_options(cap, segment.alpha());
+    let at_start = segment.kappa0().abs() >= segment.kappa1().abs();
+    let (a, b) = (
+        (segment.start(), segment.theta0()),
+        (segment.end(), segment.theta1()),
+    );
+    let Some((_, fit)) =
+        soften_fits(a, b, at_start, true, &points, options, smooth.tolerance).next()
+    else {
+        return false;
+    };
+    let d = &fit.deviation;
+    s.alpha_uncertainty =
+        smooth_alpha_uncertainty(smooth, &fit.segment, &list, &d.signed_distances(), &d.feet);
+    s.alpha_bound = super::AlphaBound::of(fit.segment.alpha(), smooth.alpha);
+    s.segment = fit.segment;
+    s.max_deviation = d.max;
+    s.rms_deviation = d.rms;
+    s.search = fit.search;
+    true
+}
+
+/// The largest curvature a smooth chain of these samples may have at a joint (see
+/// [`MIN_RADIUS_TOLERANCES`], [`MAX_TURN_PER_SAMPLE`]).
+fn curvature_cap(points: &[Point], tolerance: f64) -> f64 {
+    let mut steps: Vec<f64> = points.windows(2).map(|w| w[0].distance(w[1])).collect();
+    steps.sort_by(f64::total_cmp);
+    let spacing = steps.get(steps.len() / 2).copied().unwrap_or(0.0);
+    (1.0 / (MIN_RADIUS_TOLERANCES * tolerance))
+        .min(MAX_TURN_PER_SAMPLE / spacing.max(f64::MIN_POSITIVE))
+}
+
+/// Why a part's smooth fit failed.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum Missed {
+    /// It missed the tolerance with a joint's curvature on the bound
+    /// ([`MIN_RADIUS_TOLERANCES`], [`MAX_TURN_PER_SAMPLE`]): the G1 joint (index in the part,
+    /// 1..n) nearest it.
+    Bound(usize),
+    /// Otherwise (no chain meeting the constraints, or cuts that stopped helping).
+    Other,
+}
+
+/// [`smooth_chain`] of a chain without forced corners.
+fn smooth_part(smooth: &SmoothInput) -> Result<Chain, Missed> {
+    let input = smooth.input;
+    let chain = smooth.chain;
+    let points = input.points;
+    // Each G1 segment's local samples (points whose original index lies in its range); a
+    // segment holding none repeats the index of the last sample before it, which may be the
+    // previous part's.
+    let mut assign: Vec<Vec<usize>> = chain
+        .segments
+        .iter()
+        .map(|s| {
+            if s.params.is_none() {
+                return Vec::new();
+            }
+            (0..points.len())
+                .filter(|&i| {
+                    let o = input.indices[i];
+                    o >= s.samples.0 && o <= s.samples.1
+                })
+                .collect()
+        })
+        .collect();
+    // A sample on a range boundary (a segment without samples repeats its neighbour's index)
+    // belongs to one segment only.
+    let mut taken = vec![false; points.len()];
+    for list in &mut assign {
+        list.retain(|&i| !std::mem::replace(&mut taken[i], true));
+    }
+    // One segment has no joint to make smooth: it is its own G2 (and C3) chain.
+    if chain.segments.len() == 1 {
+        return Ok(Chain {
+            continuity: smooth.continuity,
+            ..chain.clone()
+        });
+    }
+    // The joints' curvatures start at the B-spline's; where the fit cannot start or finish from
+    // there, at the G1 chain's own (the two sides' geometric mean). A miss against the curvature
+    // bound is the samples' (the joint becomes a corner, see [`smooth_chain`]): on the fixture
+    // strokes the second start never held where the first missed so, in 11 tries.
+    let mut missed = Missed::Other;
+    for start in [JointStart::Spline, JointStart::Chain] {
+        match smooth_from(smooth, assign.clone(), start) {
+            Ok(chain) => return Ok(chain),
+            Err(Missed::Bound(j)) => {
+                missed = Missed::Bound(j);
+                break;
+            }
+            Err(_) => {}
+        }
+    }
+    Err(missed)
+}
+
+/// Where the joints' curvatures of the starting chain come from (see [`start_layout`]).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum JointStart {
+    /// The B-spline's curvature at the joint, where its sign agrees with the chain's.
+    Spline,
+    /// The G1 chain's two sides' geometric mean.
+    Chain,
+}
+
+/// [`smooth_part`] from the joint curvatures of `start`.
+fn smooth_from(
+    smooth: &SmoothInput,
+    mut assign: Vec<Vec<usize>>,
+    joint_start: JointStart,
+) -> Result<Chain, Missed> {
+    let points = smooth.input.points;
+    let chain = smooth.chain;
+    let max_log_kappa = curvature_cap(points, smooth.tolerance).ln();
+    let extent = points
+        .iter()
+        .map(|p| p.distance(points[0]))
+        .fold(smooth.tolerance, f64::max);
+    let min_log_kappa = -(MAX_RADIUS_EXTENTS * extent).ln();
+    let (mut layout, mut x) =
+        start_layout(smooth, &mut assign, max_log_kappa, joint_start).ok_or(Missed::Other)?;
+    let start = chain.segments[0].segment.start();
+    let end = chain.segments.last().ok_or(Missed::Other)?.segment.end();
+    let extent = points
+        .iter()
+        .map(|p| p.distance(start))
+        .fold(start.distance(end), f64::max);
+    let mut solver = Solver {
+        points,
+        start,
+        scale: extent.max(smooth.tolerance),
+        chord_error: smooth.chord_error,
+        log_kappa: (min_log_kappa, max_log_kappa),
+        c3: smooth.continuity == Continuity::C3,
+        trial_slack: (TRIAL_GAP_TOLERANCES * smooth.tolerance / extent.max(smooth.tolerance))
+            .max(END_TOLERANCE)
+            / END_TOLERANCE,
+        weights: Vec::new(),
+        minimax: false,
+        tolerance: smooth.tolerance,
+    };
+    layout.clamp(&mut x, solver.log_kappa);
+    let (mut best_worst, mut stalled) = (f64::INFINITY, 0);
+    for round in 0..=MAX_CUT_ROUNDS {
+        if layout.n() > MAX_SEGMENTS {
+            return Err(Missed::Other);
+        }
+        let started = (round == 0).then(|| (x.clone(), assign.clone()));
+        let mut evaluation =
+            solve(&solver, &layout, &mut x, &mut assign, None).ok_or(Missed::Other)?;
+        // The starting α match the G1 chain's turning (see [`start_layout`]); where the fit
+        // ended with such an α pressed on its bound while the G1 chain's own α lies inside,
+        // it may sit in a local minimum that the G1 α avoids (a planted S of two clothoids on a
+        // pixel grid: α −3 against the planted −1, a third more cost): the fit from the G1 α
+        // is tried too and the lower cost kept (also where the first holds the tolerance: its
+        // curvature profile can be 13 % off the planted one).
+        if let Some((mut other, mut other_assign)) = started
+            && let Some(g1_alpha) = g1_alpha_start(&layout, &x, &other, &chain.segments)
+        {
+            other.alpha = g1_alpha;
+            if let Some(e) = solve(&solver, &layout, &mut other, &mut other_assign, None)
+                && e.cost < evaluation.cost
+            {
+                (evaluation, x, assign) = (e, other, other_assign);
+            }
+        }
+        let own = distances(&evaluation);
+        let (worst, _) = worst_sample(&own);
+        // Every sample within the tolerance of its own segment and of the whole chain: done.
+        let held = |evaluation: &Evaluation, assign: &[Vec<usize>], own: &[Vec<f64>]| {
+            let nearest = nearest_deviation(
+                points,
+                &evaluation.segments,
+                assign,
+                own,
+                smooth.chord_error,
+            );
+            (nearest <= smooth.tolerance)
+                .then(|| finish(smooth, &layout, evaluation, assign, nearest))
+        };
+        if worst <= smooth.tolerance {
+            if let Some(chain) = held(&evaluation, &assign, &own) {
+                return Ok(chain);
+            }
+        } else if worst <= MINIMAX_REACH * smooth.tolerance
+            // A near miss is first fitted for its largest distance rather than cut (see
+            // [`MINIMAX_ROUNDS`]).
+            && let Some((evaluation, assign)) =
+                minimax(&mut solver, &layout, &x, &assign, &evaluation)
+            && let Some(chain) = held(&evaluation, &assign, &distances(&evaluation))
+        {
+            return Ok(chain);
+        }
+        if let missed @ Missed::Bound(_) = on_bound(&layout, &x, &chain.segments, max_log_kappa) {
+            return Err(missed);
+        }
+        if worst < best_worst {
+            best_worst = worst;
+            stalled = 0;
+        } else {
+            stalled += 1;
+            if stalled >= STALLED_ROUNDS {
+                return Err(on_bound(&layout, &x, &chain.segments, max_log_kappa));
+            }
+        }
+        // Every segment that misses the tolerance is cut, the last first (a cut shifts the
+        // indices after it).
+        let missing: Vec<usize> = (0..own.len())
+            .filter(|&k| own[k].iter().any(|&d| d > smooth.tolerance))
+            .collect();
+        if missing.is_empty() {
+            return Err(Missed::Other);
+        }
+        for &k in missing.iter().rev() {
+            cut(
+                &mut layout,
+                &mut x,
+                &mut assign,
+                &evaluation,
+                k,
+                smooth.alpha,
+            )
+            .ok_or(Missed::Other)?;
+        }
+    }
+    Err(on_bound(&layout, &x, &chain.segments, max_log_kappa))
+}
+
+/// Relative margin within which a joint's log-curvature counts as on its upper bound.
+const ON_BOUND: f64 = 1e-9;
+
+/// The failure of a fit that ended at `x`: [`Missed::Bound`] with the G1 joint nearest the
+/// interior joint whose curvature sits on the upper bound (the largest such G1 joint's own bend
+/// where the bound is reached inside a G1 segment), else [`Missed::Other`].
+fn on_bound(layout: &Layout, x: &Params, g1: &[ChainSegment], max_log_kappa: f64) -> Missed {
+    let n = layout.n();
+    let bend = |j: usize| -> f64 {
+        // A G1 joint's own bend: the larger curvature of its two sides.
+        match (g1.get(j.wrapping_sub(1)), g1.get(j)) {
+            (Some(a), Some(b)) => a.segment.kappa1().abs().max(b.segment.kappa0().abs()),
+            _ => 0.0,
+        }
+    };
+    let mut best: Option<(f64, usize)> = None;
+    for j in 1..n {
+        if layout.sigma[j] == 0.0
+            || x.u[j] < max_log_kappa - ON_BOUND * max_log_kappa.abs().max(1.0)
+        {
+            continue;
+        }
+        let (before, after) = (layout.origin[j - 1], layout.origin[j]);
+        // A joint between G1 segments is that G1 joint; one cut inside a G1 segment stands for
+        // the segment's end that bends more.
+        let candidate = if before == after && bend(after + 1) > bend(after) {
+            after + 1
+        } else {
+            after
+        };
+        if candidate == 0 || candidate >= g1.len() {
+            continue;
+        }
+        let b = bend(candidate);
+        if best.is_none_or(|(m, _)| b > m) {
+            best = Some((b, candidate));
+        }
+    }
+    best.map_or(Missed::Other, |(_, j)| Missed::Bound(j))
+}
+
+/// The chain record of a solved smooth chain.
+fn finish(
+    smooth: &SmoothInput,
+    layout: &Layout,
+    e: &Evaluation,
+    assign: &[Vec<usize>],
+    max_deviation: f64,
+) -> Chain {
+    let input = smooth.input;
+    let starts: Vec<Option<usize>> = assign
+        .iter()
+        .map(|l| l.iter().map(|&i| input.indices[i]).min())
+        .collect();
+    // The part's own sample range: a part between corners inside the piece must not reach
+    // its neighbours' samples.
+    let part = match (
+        smooth.chain.segments.iter().find(|s| s.params.is_some()),
+        smooth.chain.segments.last(),
+    ) {
+        (Some(first), Some(last)) => (first.samples.0, last.samples.1),
+        _ => input.samples,
+    };
+    let ranges = tile_ranges(&starts, part);
+    let n = layout.n();
+    let segments = (0..n)
+        .map(|k| {
+            let r = &e.residuals[k];
+            let max = r.iter().fold(0.0_f64, |m, v| m.max(v.abs()));
+            let rms = if r.is_empty() {
+                0.0
+            } else {
+                (r.iter().map(|v| v * v).sum::<f64>() / r.len() as f64).sqrt()
+            };
+            let params = assign[k].iter().map(|&i| input.params[i]).fold(
+                None,
+                |acc: Option<(f64, f64)>, u| {
+                    Some(acc.map_or((u, u), |(lo, hi)| (lo.min(u), hi.max(u))))
+                },
+            );
+            ChainSegment {
+                segment: e.segments[k],
+                samples: ranges[k],
+                max_deviation: max,
+                rms_deviation: rms,
+                search: smooth.chain.segments[layout.origin[k]].search.clone(),
+                alpha_bound: super::AlphaBound::of(e.segments[k].alpha(), smooth.alpha),
+                alpha_uncertainty: smooth_alpha_uncertainty(
+                    smooth,
+                    &e.segments[k],
+                    &assign[k],
+                    r,
+                    &e.feet[k],
+                ),
+                start: layout.kinds[k],
+                end: if k + 1 < n {
+                    layout.kinds[k + 1]
+                } else {
+                    layout.end_kind
+                },
+                params,
+            }
+        })
+        .collect();
+    Chain {
+        segments,
+        max_deviation,
+        within_tolerance: max_deviation <= smooth.tolerance,
+        refined: smooth.chain.refined,
+        continuity: smooth.continuity,
+    }
+}
+
+/// The standard error of a smooth segment's α given its end points and tangents (as for the G1
+/// chain's segments, [`super::alpha_evidence`]): the segment rebuilt through them at α ± h by
+/// the Yoshida–Saito construction, its samples' signed distances differenced. Its end
+/// curvatures then move with α, which the G2 chain does not allow: the figure says how well the
+/// samples tell α with the joints' positions and tangents held, not the chain's own conditional.
+/// `None` for no α or a fixed one, or where the constructions fail.
+pub(super) fn smooth_alpha_uncertainty(
+    smooth: &SmoothInput,
+    segment: &LacSegment,
+    samples: &[usize],
+    residuals: &[f64],
+    feet: &[f64],
+) -> Option<f64> {
+    let alpha = segment.alpha()?;
+    if matches!(smooth.alpha, AlphaChoice::Fixed(_)) {
+        return None;
+    }
+    let points: Vec<Point> = samples.iter().map(|&i| smooth.input.points[i]).collect();
+    let tangent = |theta: f64| Vec2::new(theta.cos(), theta.sin());
+    let signed = |x: f64| -> Option<Vec<f64>> {
+        let probe = crate::lac::yoshida_saito::fit_g1_near(
+            segment.start(),
+            tangent(segment.theta0()),
+            segment.end(),
+            tangent(segment.theta1()),
+            x,
+            Some(segment),
+        )
+        .ok()?;
+        // The probe is the segment a step of α away: its feet are polished from the
+        // segment's own.
+        let d = deviation_from(
+            &probe,
+            &points,
+            (feet, segment.length()),
+            smooth.chord_error,
+        );
+        Some(d.signed_distances())
+    };
+    let step = super::ALPHA_DIFFERENCE_STEP;
+    let (minus, plus) = (signed(alpha - step), signed(alpha + step));
+    super::alpha_uncertainty(residuals, minus.as_deref(), plus.as_deref())
+}
