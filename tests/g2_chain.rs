@@ -274,7 +274,8 @@ fn every_recorded_stroke_in_g2_holds_its_tolerance_its_continuity_and_the_curvat
                 assert!(gap <= 1e-9 * scale, "{name}: a joint {gap} apart");
             }
             // No segment bends tighter than the smooth chain's bound: a hook at a corner is a
-            // corner (and a line), not a curl (28 segments of the painting did before).
+            // corner (and a line), not a curl (28 fixture segments did before, 26 of them the
+            // painting's).
             let cap = curvature_bound(&curve.points, curve.tolerance);
             for s in &chain.segments {
                 let bend = s.segment.kappa0().abs().max(s.segment.kappa1().abs());
