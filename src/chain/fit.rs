@@ -1499,12 +1499,7 @@ impl<'a> Fitter<'a> {
             } else {
                 (distances.iter().map(|r| r * r).sum::<f64>() / distances.len() as f64).sqrt()
             };
-            let params = state.samples[k].iter().map(|&i| self.params[i]).fold(
-                None,
-                |acc: Option<(f64, f64)>, u| {
-                    Some(acc.map_or((u, u), |(lo, hi)| (lo.min(u), hi.max(u))))
-                },
-            );
+            let params = param_interval(&self.params, &state.samples[k]);
             let range = ranges[k];
             let alpha = evaluated.segment.alpha();
             segments.push(ChainSegment {
@@ -1578,6 +1573,16 @@ impl<'a> Fitter<'a> {
             self.chord_error,
         )
     }
+}
+
+/// The B-spline parameter interval spanned by the points `list` (indices into `params`, each
+/// point's B-spline parameter); `None` when `list` is empty.
+pub(super) fn param_interval(params: &[f64], list: &[usize]) -> Option<(f64, f64)> {
+    list.iter()
+        .map(|&i| params[i])
+        .fold(None, |acc: Option<(f64, f64)>, u| {
+            Some(acc.map_or((u, u), |(lo, hi)| (lo.min(u), hi.max(u))))
+        })
 }
 
 /// Each segment's inclusive range of original sample indices from its first one (`None`: it

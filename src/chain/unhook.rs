@@ -22,7 +22,7 @@
 //! Where none works the segment is kept as it is.
 
 use super::AlphaBound;
-use super::fit::{ChainSegment, JointKind, soften_fits};
+use super::fit::{ChainSegment, JointKind, param_interval, soften_fits};
 use super::smooth::SmoothInput;
 use crate::geom::{Point, Vec2};
 use crate::lac::LacSegment;
@@ -34,10 +34,11 @@ use crate::lac::deviation::deviation;
 /// cutting deeper would trade a needle for a corner inside the drawn shape.
 pub const MAX_HOOK_SAMPLES: usize = 2;
 
-/// The segments replacing `s`, whose own samples are the points `list` (in stroke order: those
-/// of its tiled range, none shared with a neighbour): one line, or a hook line and a
-/// segment meeting at a new corner, in stroke order; `None` where `s` does not curl beyond `cap`
-/// at a free end or no replacement holds its samples (see the module documentation).
+/// The segments replacing `s`, a segment between two free ends (corners, or the stroke's own
+/// ends) that curls beyond `cap` at one of them and whose own samples are the points `list` (in
+/// stroke order: those of its tiled range, none shared with a neighbour): one line, or a hook
+/// line and a segment meeting at a new corner, in stroke order; `None` where no replacement
+/// holds its samples (see the module documentation).
 pub(super) fn unhook(
     smooth: &SmoothInput,
     s: &ChainSegment,
@@ -46,9 +47,6 @@ pub(super) fn unhook(
 ) -> Option<Vec<ChainSegment>> {
     let segment = s.segment;
     let bend = |seg: &LacSegment| seg.kappa0().abs().max(seg.kappa1().abs());
-    if !(s.start.tangent_free() && s.end.tangent_free()) || bend(&segment) <= cap {
-        return None;
-    }
     let input = smooth.input;
     // A segment holding no samples may take any shape between its ends: the straight one.
     if list.is_empty() {
@@ -152,7 +150,7 @@ pub(super) fn unhook(
             search: fit.search.clone(),
             start: if at_start { JointKind::Corner } else { s.start },
             end: if at_start { s.end } else { JointKind::Corner },
-            params: params(input.params, rest_list),
+            params: param_interval(input.params, rest_list),
             alpha_bound: AlphaBound::of(fit.segment.alpha(), smooth.alpha),
             alpha_uncertainty: super::smooth::smooth_alpha_uncertainty(
                 smooth,
@@ -216,7 +214,7 @@ fn line_segment(
             JointKind::Corner
         },
         end: if end_shared { s.end } else { JointKind::Corner },
-        params: params(input.params, list),
+        params: param_interval(input.params, list),
         alpha_bound: None,
         alpha_uncertainty: None,
     })
@@ -227,13 +225,4 @@ fn range(indices: &[usize], list: &[usize]) -> (usize, usize) {
     let first = list.first().map_or(0, |&i| indices[i]);
     let last = list.last().map_or(first, |&i| indices[i]);
     (first, last)
-}
-
-/// The B-spline parameter interval of the points `list` (`None` when empty).
-fn params(params: &[f64], list: &[usize]) -> Option<(f64, f64)> {
-    list.iter()
-        .map(|&i| params[i])
-        .fold(None, |acc: Option<(f64, f64)>, u| {
-            Some(acc.map_or((u, u), |(lo, hi)| (lo.min(u), hi.max(u))))
-        })
 }

@@ -114,7 +114,8 @@
 use super::band::{Band, BandCholesky};
 use super::band_lu::BandMatrix;
 use super::fit::{
-    Chain, ChainInput, ChainSegment, JointKind, nearest_deviation, soften_fits, tile_ranges,
+    Chain, ChainInput, ChainSegment, JointKind, nearest_deviation, param_interval, soften_fits,
+    tile_ranges,
 };
 use crate::bspline::project::Pieces;
 use crate::geom::{Point, Vec2};
@@ -397,12 +398,6 @@ pub(crate) fn smooth_chain(smooth: &SmoothInput) -> Option<Chain> {
     if cuts.len() == 1 && !all_smooth {
         return None;
     }
-    // A segment between two corners (or a corner and the stroke's end) has both tangents free,
-    // but kept the G1 chain's, which curl where the G1 joint bent beyond the bound: its ends are
-    // turned as the G1 chain's piece ends are (see [`soften_tries`]).
-    for segment in &mut out {
-        refitted |= soften_isolated(smooth, segment, cap);
-    }
     // The parts' ranges tiled as one piece: a segment holding no samples has the one-sample
     // range of the last sample before it, also at the start of a part.
     let tile = |out: &mut Vec<ChainSegment>| {
@@ -416,11 +411,23 @@ pub(crate) fn smooth_chain(smooth: &SmoothInput) -> Option<Chain> {
         }
     };
     tile(&mut out);
-    // One that still curls beyond the bound hooks there: it becomes a line, or a line and a
-    // segment meeting at a corner (see `src/chain/unhook.rs`), each holding its share of the
-    // segment's own samples (its tiled range); the ranges are tiled again after.
-    let mut unhooked = Vec::with_capacity(out.len());
-    for segment in out {
+    // A segment between two corners (or a corner and the stroke's end) has both tangents free,
+    // but kept the G1 chain's, which curl where the G1 joint bent beyond the bound: its ends are
+    // turned as the G1 chain's piece ends are (see [`soften_tries`]). One that still curls
+    // hooks there: it becomes a line, or a line and a segment meeting at a corner (see
+    // `src/chain/unhook.rs`). Both hold the segment's own samples (its tiled range); the ranges
+    // are tiled again after.
+    let mut straightened = Vec::with_capacity(out.len());
+    for mut segment in out {
+        let bend = segment
+            .segment
+            .kappa0()
+            .abs()
+            .max(segment.segment.kappa1().abs());
+        if !(segment.start.tangent_free() && segment.end.tangent_free() && bend > cap) {
+            straightened.push(segment);
+            continue;
+        }
         let own: Vec<usize> = match segment.params {
             Some(_) => (0..smooth.input.points.len())
                 .filter(|&i| {
@@ -429,15 +436,17 @@ pub(crate) fn smooth_chain(smooth: &SmoothInput) -> Option<Chain> {
                 .collect(),
             None => Vec::new(),
         };
-        match super::unhook::unhook(smooth, &segment, &own, cap) {
-            Some(replacement) => {
-                refitted = true;
-                unhooked.extend(replacement);
-            }
-            None => unhooked.push(segment),
+        if soften_isolated(smooth, &mut segment, &own, cap) {
+            refitted = true;
+            straightened.push(segment);
+        } else if let Some(replacement) = super::unhook::unhook(smooth, &segment, &own, cap) {
+            refitted = true;
+            straightened.extend(replacement);
+        } else {
+            straightened.push(segment);
         }
     }
-    let mut out = unhooked;
+    let mut out = straightened;
     tile(&mut out);
     if !refitted {
         return Some(Chain {
@@ -480,26 +489,16 @@ pub(crate) fn smooth_chain(smooth: &SmoothInput) -> Option<Chain> {
     })
 }
 
-/// Refits `s` with turned end tangents where both its ends are free (corners, or the stroke's
-/// own ends) and one of them bends beyond `cap`: the first of [`soften_tries`] whose segment
-/// (α searched again, within `cap`) holds its samples within the tolerance. Returns whether it
-/// was refitted.
-fn soften_isolated(smooth: &SmoothInput, s: &mut ChainSegment, cap: f64) -> bool {
-    let bend = |seg: &LacSegment| seg.kappa0().abs().max(seg.kappa1().abs());
+/// Refits `s`, a segment between two free ends (corners, or the stroke's own ends) curling
+/// beyond `cap` at one of them, with turned end tangents: the first of [`soften_tries`] whose
+/// segment (α searched again, within `cap`) holds its own samples `list` within the tolerance.
+/// Returns whether it was refitted.
+fn soften_isolated(smooth: &SmoothInput, s: &mut ChainSegment, list: &[usize], cap: f64) -> bool {
     let segment = s.segment;
-    if !(s.start.tangent_free() && s.end.tangent_free())
-        || bend(&segment) <= cap
-        || s.params.is_none()
-    {
-        return false;
-    }
-    let input = smooth.input;
-    let list: Vec<usize> = (0..input.points.len())
-        .filter(|&i| (s.samples.0..=s.samples.1).contains(&input.indices[i]))
-        .collect();
     if list.is_empty() {
         return false;
     }
+    let input = smooth.input;
     let points: Vec<Point> = list.iter().map(|&i| input.points[i]).collect();
     let options = smooth.soften_options(cap, segment.alpha());
     let at_start = segment.kappa0().abs() >= segment.kappa1().abs();
@@ -514,7 +513,7 @@ fn soften_isolated(smooth: &SmoothInput, s: &mut ChainSegment, cap: f64) -> bool
     };
     let d = &fit.deviation;
     s.alpha_uncertainty =
-        smooth_alpha_uncertainty(smooth, &fit.segment, &list, &d.signed_distances(), &d.feet);
+        smooth_alpha_uncertainty(smooth, &fit.segment, list, &d.signed_distances(), &d.feet);
     s.alpha_bound = super::AlphaBound::of(fit.segment.alpha(), smooth.alpha);
     s.segment = fit.segment;
     s.max_deviation = d.max;
@@ -804,12 +803,7 @@ fn finish(
             } else {
                 (r.iter().map(|v| v * v).sum::<f64>() / r.len() as f64).sqrt()
             };
-            let params = assign[k].iter().map(|&i| input.params[i]).fold(
-                None,
-                |acc: Option<(f64, f64)>, u| {
-                    Some(acc.map_or((u, u), |(lo, hi)| (lo.min(u), hi.max(u))))
-                },
-            );
+            let params = param_interval(input.params, &assign[k]);
             ChainSegment {
                 segment: e.segments[k],
                 samples: ranges[k],
