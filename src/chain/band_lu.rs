@@ -79,32 +79,44 @@ impl BandMatrix {
                 return None;
             }
             if pivot_row != j {
-                for c in j..=last_col {
-                    let (a, b) = (j * w + (c + l - j), pivot_row * w + (c + l - pivot_row));
-                    self.rows.swap(a, b);
-                }
+                // Row j's entries from column j on, and the pivot row's: the pivot row lies
+                // below, so its storage follows row j's.
+                let len = last_col + 1 - j;
+                let (upper_rows, lower_rows) = self.rows.split_at_mut(pivot_row * w);
+                let row_j = &mut upper_rows[j * w + l..j * w + l + len];
+                let start = j + l - pivot_row;
+                let row_p = &mut lower_rows[start..start + len];
+                row_j.swap_with_slice(row_p);
                 x.swap(j, pivot_row);
             }
             let pivot = self.rows[j * w + l];
+            // Columns j + 1 ..= last_col of row j, subtracted from each row below it: row i's
+            // storage lies wholly after row j's (i > j), so the two are disjoint slices and
+            // the loop runs without index checks.
+            let len = last_col - j;
             for i in j + 1..=last_row {
-                let factor = self.rows[i * w + (j + l - i)] / pivot;
+                let (upper_rows, lower_rows) = self.rows.split_at_mut(i * w);
+                let below = &mut lower_rows[..w];
+                let factor = below[j + l - i] / pivot;
                 if factor == 0.0 {
                     continue;
                 }
-                for c in j + 1..=last_col {
-                    let u = self.rows[j * w + (c + l - j)];
-                    self.rows[i * w + (c + l - i)] -= factor * u;
+                let source = &upper_rows[j * w + l + 1..j * w + l + 1 + len];
+                let start = j + 1 + l - i;
+                for (d, &u) in below[start..start + len].iter_mut().zip(source) {
+                    *d -= factor * u;
                 }
                 x[i] -= factor * x[j];
             }
         }
         for j in (0..n).rev() {
             let last_col = (j + reach).min(n - 1);
+            let row = &self.rows[j * w + l..j * w + l + (last_col + 1 - j)];
             let mut sum = x[j];
-            for c in j + 1..=last_col {
-                sum -= self.rows[j * w + (c + l - j)] * x[c];
+            for (&a, &v) in row[1..].iter().zip(&x[j + 1..=last_col]) {
+                sum -= a * v;
             }
-            x[j] = sum / self.rows[j * w + l];
+            x[j] = sum / row[0];
         }
         x.iter().all(|v| v.is_finite()).then_some(x)
     }
