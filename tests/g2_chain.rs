@@ -249,22 +249,51 @@ fn a_planted_compound_rhythm_comes_back_with_continuous_dkappa_ds() {
 
 #[test]
 fn every_recorded_stroke_in_g2_holds_its_tolerance_its_continuity_and_the_curvature_bound() {
-    // Real strokes: whatever the smooth fit manages, no curve loses its tolerance, every joint
-    // keeps position continuity, and a curve that says G2 is curvature-continuous at every
-    // smooth joint (corners excepted: there the samples turn faster than they resolve).
+    // The issue asks for every curve G2 (all 263 are: the long scribble part that stayed G1
+    // needs 54 segments, within `MAX_SEGMENTS`).
+    let reached = recorded_strokes_hold(Continuity::G2);
+    assert!(
+        reached.iter().all(|&c| c == Continuity::G2),
+        "{} of {} curves G2 throughout",
+        reached.iter().filter(|&&c| c == Continuity::G2).count(),
+        reached.len()
+    );
+}
+
+#[test]
+fn every_recorded_stroke_in_c3_is_at_least_g2_and_c3_where_it_says_so() {
+    // Compound rhythm on request: a part that cannot be made C3 is made G2, never left at the
+    // G1 chain (37 of the 263 fixture curves were, with 94 more corners than in g2, and five
+    // segments curling beyond the bound, before C3 fell back to G2 part by part).
+    let reached = recorded_strokes_hold(Continuity::C3);
+    assert!(
+        reached.iter().all(|&c| c >= Continuity::G2),
+        "{} of {} curves below G2",
+        reached.iter().filter(|&&c| c < Continuity::G2).count(),
+        reached.len()
+    );
+    assert!(reached.contains(&Continuity::C3), "no curve C3");
+}
+
+/// Fits every recorded fixture stroke in `continuity` and asserts what holds for every curve,
+/// whatever the smooth fit manages: no curve loses its tolerance, every joint keeps position
+/// continuity, no segment bends beyond the smooth chain's curvature bound, and a curve that says
+/// G2 (C3) is curvature- (and dκ/ds-) continuous at every smooth joint (corners excepted: there
+/// the samples turn faster than they resolve). Returns each curve's continuity.
+fn recorded_strokes_hold(continuity: Continuity) -> Vec<Continuity> {
     let mut options = PipelineOptions::default();
-    options.chain.continuity = Continuity::G2;
-    let (mut curves, mut smooth_curves) = (0, 0);
+    options.chain.continuity = continuity;
+    let mut reached = Vec::new();
     for name in common::fixture_names() {
         let file = common::fixture(&name);
         let out = kansei::pipeline::fit_file(&file, &options).expect("options are valid");
         assert!(out.failures.is_empty(), "{name}: {:?}", out.failures);
         for curve in &out.curves {
             let Some(chain) = &curve.chain else { continue };
-            curves += 1;
+            reached.push(chain.continuity);
             assert!(
                 chain.within_tolerance && chain.max_deviation <= curve.tolerance,
-                "{name}: deviation {} > {}",
+                "{name} {continuity}: deviation {} > {}",
                 chain.max_deviation,
                 curve.tolerance
             );
@@ -274,36 +303,49 @@ fn every_recorded_stroke_in_g2_holds_its_tolerance_its_continuity_and_the_curvat
                 assert!(gap <= 1e-9 * scale, "{name}: a joint {gap} apart");
             }
             // No segment bends tighter than the smooth chain's bound: a hook at a corner is a
-            // corner (and a line), not a curl (28 fixture segments did before, 26 of them the
-            // painting's).
+            // corner (and a line), not a curl (28 fixture segments did in g2 before, 26 of them
+            // the painting's).
             let cap = curvature_bound(&curve.points, curve.tolerance);
             for s in &chain.segments {
                 let bend = s.segment.kappa0().abs().max(s.segment.kappa1().abs());
                 assert!(
                     bend <= cap * (1.0 + BOUND_ROUNDING),
-                    "{name} stroke {} samples {:?}: κ = {bend} beyond the bound {cap}",
+                    "{name} {continuity} stroke {} samples {:?}: κ = {bend} beyond the bound {cap}",
                     curve.stroke,
                     s.samples
                 );
             }
-            if chain.continuity == Continuity::G2 {
-                smooth_curves += 1;
-                for joint in kansei::export::JointRecord::of_chain(&chain.segments) {
-                    if joint.kind == kansei::export::JointContinuity::Smooth {
-                        let jump = joint.curvature_jump.expect("a finite jump");
-                        assert!(jump <= G2_JUMP, "{name}: G2 curve with a jump {jump}");
-                    }
+            if chain.continuity < Continuity::G2 {
+                continue;
+            }
+            for joint in kansei::export::JointRecord::of_chain(&chain.segments) {
+                if joint.kind != kansei::export::JointContinuity::Smooth {
+                    continue;
+                }
+                let jump = joint.curvature_jump.expect("a finite jump");
+                assert!(
+                    jump <= G2_JUMP,
+                    "{name}: {} curve with a jump {jump}",
+                    chain.continuity
+                );
+                // dκ/ds is not finite where a segment leaves κ = 0 with α in (−1, 0): no jump
+                // is measured there.
+                if chain.continuity == Continuity::C3
+                    && let Some(jump) = joint.dkappa_ds_jump
+                {
+                    assert!(jump <= C3_JUMP, "{name}: C3 curve with a dκ/ds jump {jump}");
                 }
             }
         }
     }
-    // The issue asks for every curve (all 263 are: the long scribble part that stayed G1 needs
-    // 54 segments, within `MAX_SEGMENTS`).
-    assert!(
-        curves > 0 && smooth_curves == curves,
-        "{smooth_curves} of {curves} curves G2 throughout"
-    );
+    assert!(!reached.is_empty());
+    reached
 }
+
+/// Largest relative dκ/ds jump at a C3 joint: the fit meets dκ/ds to 1e-9 of its magnitude
+/// (`C3_TOLERANCE`), the final layout rounds it by a little more (measured at most 4e-10 over
+/// the fixture strokes).
+const C3_JUMP: f64 = 1e-8;
 
 /// Relative rounding allowed above the curvature bound: the fit holds a joint's log-curvature
 /// at the bound's logarithm, and the exponential rounds.

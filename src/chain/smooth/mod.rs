@@ -138,7 +138,9 @@ use solver::*;
 use start::*;
 
 /// Continuity at the smooth (non-corner) joints of a chain.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+///
+/// Ordered from the weakest: `G1 < G2 < C3`.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, PartialOrd, Ord, Serialize, Deserialize)]
 #[serde(rename_all = "lowercase")]
 pub enum Continuity {
     /// Position and tangent (the seed paper's chains).
@@ -331,6 +333,8 @@ pub(crate) fn smooth_chain(smooth: &SmoothInput) -> Option<Chain> {
     let mut out: Vec<ChainSegment> = Vec::with_capacity(segments.len());
     let mut max_deviation: f64 = 0.0;
     let mut all_smooth = true;
+    // The weakest continuity a smoothed part reached (C3 asked, G2 where C3 could not hold).
+    let mut weakest = smooth.continuity;
     // Whether some part had joints to make smooth: otherwise every segment is the G1 chain's,
     // holding the same samples, and so is the chain's largest distance.
     let mut refitted = false;
@@ -354,12 +358,27 @@ pub(crate) fn smooth_chain(smooth: &SmoothInput) -> Option<Chain> {
         {
             last.end = JointKind::Corner;
         }
-        let fitted = smooth_part(&SmoothInput {
+        // A part that cannot be made C3 (on request) is made G2 where it can: a user asking
+        // for more continuity never gets less than the default gives (the G1 chain). The
+        // cuts below follow the weakest mode's miss.
+        let mut fitted = smooth_part(&SmoothInput {
             chain: &part,
             ..*smooth
         });
+        let mut reached = smooth.continuity;
+        if fitted.is_err() && smooth.continuity == Continuity::C3 {
+            fitted = smooth_part(&SmoothInput {
+                chain: &part,
+                continuity: Continuity::G2,
+                ..*smooth
+            });
+            reached = Continuity::G2;
+        }
         let fitted = match fitted {
-            Ok(f) => f,
+            Ok(f) => {
+                weakest = weakest.min(reached);
+                f
+            }
             // The fit pressed a joint against the curvature bound and still missed: the samples
             // bend there tighter than a smooth chain may, as at the joints cut above. It becomes
             // a corner and the part is fitted as two.
@@ -451,7 +470,7 @@ pub(crate) fn smooth_chain(smooth: &SmoothInput) -> Option<Chain> {
     if !refitted {
         return Some(Chain {
             segments: out,
-            continuity: smooth.continuity,
+            continuity: weakest,
             ..chain.clone()
         });
     }
@@ -481,11 +500,7 @@ pub(crate) fn smooth_chain(smooth: &SmoothInput) -> Option<Chain> {
         max_deviation,
         within_tolerance: max_deviation <= smooth.tolerance,
         refined: chain.refined,
-        continuity: if all_smooth {
-            smooth.continuity
-        } else {
-            Continuity::G1
-        },
+        continuity: if all_smooth { weakest } else { Continuity::G1 },
     })
 }
 
