@@ -357,8 +357,13 @@ pub fn fit_chain(
         fitter.repair(&mut state, &mut searches)?;
     }
     let chain = fitter.finish(&state, searches)?;
+    // Where every cut left a segment beyond the tolerance, its samples zigzag at the
+    // tolerance's scale: they are joined by lines (see `super::polyline`).
+    let last_resort = |chain: Chain| {
+        super::polyline::join_missing(input, &chain, tolerance, fitter.chord_error).unwrap_or(chain)
+    };
     if options.continuity == Continuity::G1 {
-        return Ok(chain);
+        return Ok(last_resort(chain));
     }
     // The G1 chain that starts a smooth fit is refined less (`STARTING_CONVERGED_RMS`); where it
     // ends beyond the tolerance, the G1 chain refined to convergence may not (a jiggle of the
@@ -392,7 +397,7 @@ pub fn fit_chain(
     });
     // A smooth chain farther from its samples than the G1 chain it started from is not taken
     // (the guarantee before the continuity).
-    Ok(match smooth {
+    Ok(last_resort(match smooth {
         Some(smooth)
             if smooth.within_tolerance
                 || !chain.within_tolerance && smooth.max_deviation <= chain.max_deviation =>
@@ -400,7 +405,7 @@ pub fn fit_chain(
             smooth
         }
         _ => chain,
-    })
+    }))
 }
 
 /// How far from a changed segment a later refinement still moves the chain (in segments): 1,

@@ -22,6 +22,7 @@ pub mod alpha_evidence;
 mod band;
 mod band_lu;
 mod fit;
+mod polyline;
 mod refine;
 pub mod smooth;
 mod state;
