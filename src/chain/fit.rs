@@ -380,11 +380,10 @@ pub fn fit_chain(
                 continuity: Continuity::G1,
                 ..*options
             },
-        )?;
-        if strict.max_deviation < chain.max_deviation {
-            strict
-        } else {
-            chain
+        );
+        match strict {
+            Ok(strict) if strict.max_deviation < chain.max_deviation => strict,
+            _ => chain,
         }
     };
     let smooth = smooth_chain(&SmoothInput {

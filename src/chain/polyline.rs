@@ -126,7 +126,6 @@ fn polyline(input: &ChainInput, s: &ChainSegment, list: &[usize]) -> Option<Vec<
     if vertices.last().is_some_and(|(q, _)| *q != end) {
         vertices.push((end, Vec::new()));
     }
-    // A start that coincides with the first point holds it on no line of its own.
     let mut lines = Vec::with_capacity(vertices.len());
     let count = vertices.len() - 1;
     for (j, pair) in vertices.windows(2).enumerate() {
@@ -135,6 +134,7 @@ fn polyline(input: &ChainInput, s: &ChainSegment, list: &[usize]) -> Option<Vec<
         let length = chord.hypot();
         let line = LacSegment::new(*a, chord.y.atan2(chord.x), length, None, 0.0, 0.0).ok()?;
         let mut held = held.clone();
+        // Points on the start itself lie on the first line's start.
         if j == 0 {
             held.splice(0..0, vertices[0].1.iter().copied());
         }
