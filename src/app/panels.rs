@@ -256,8 +256,9 @@ pub fn settings(
     ui.horizontal(|ui| {
         ui.label("continuity").on_hover_text(
             "G1: position and tangent meet at the joints; G2: the curvature too; C3: its \
-             derivative too (compound rhythm). A curve the smooth fit cannot hold within the \
-             tolerance stays G1: the segment table's joint jumps say which.",
+             derivative too (compound rhythm; a part that cannot hold it is made G2). A curve \
+             the smooth fit cannot hold within the tolerance stays G1: the segment table's \
+             joint jumps say which.",
         );
         for c in [Continuity::G1, Continuity::G2, Continuity::C3] {
             ui.radio_value(&mut s.continuity, c, c.name().to_uppercase());
