@@ -250,7 +250,7 @@ fn a_planted_compound_rhythm_comes_back_with_continuous_dkappa_ds() {
 #[test]
 fn every_recorded_stroke_in_g2_holds_its_tolerance_its_continuity_and_the_curvature_bound() {
     // The issue asks for every curve G2 (all 263 are: the long scribble part that stayed G1
-    // needs 54 segments, within `MAX_SEGMENTS`).
+    // needs 59 segments, within `MAX_SEGMENTS`).
     let reached = recorded_strokes_hold(Continuity::G2);
     assert!(
         reached.iter().all(|&c| c == Continuity::G2),
