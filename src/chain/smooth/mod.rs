@@ -233,7 +233,7 @@ pub const MAX_EXTRA_TURNING: f64 = std::f64::consts::PI;
 /// cannot hold. At 40 a long part of the scribble fixture (95 samples that turn fast, 29 G1
 /// segments) stayed G1, its cut rounds passing 40 on the way; at 60 it is G2 (with 54 then, 59
 /// since the exact series next to curvature zeros, `lac::deviation`), every fixture curve G2
-/// (the nine files 0.43 → 0.49 s), and the Prius line at 0.1 mm keeps its 35.
+/// (the nine files 0.43 → 0.49 s), and the Prius line at 0.1 mm keeps its 35 (36 since).
 pub const MAX_SEGMENTS: usize = 60;
 
 /// Rounds of cuts in a row that do not bring the worst sample nearer before the smooth fit of
