@@ -1611,6 +1611,53 @@ impl<'a> Fitter<'a> {
     }
 }
 
+/// Each segment's own points (indices into `input.points`): those whose original index lies in
+/// its sample range, a point on a range boundary given to the first segment that holds it (a
+/// segment without samples repeats its neighbour's index); none for a segment without samples.
+pub(super) fn own_points(input: &ChainInput, segments: &[ChainSegment]) -> Vec<Vec<usize>> {
+    let mut taken = vec![false; input.points.len()];
+    segments
+        .iter()
+        .map(|s| {
+            if s.params.is_none() {
+                return Vec::new();
+            }
+            (0..input.points.len())
+                .filter(|&i| (s.samples.0..=s.samples.1).contains(&input.indices[i]))
+                .filter(|&i| !std::mem::replace(&mut taken[i], true))
+                .collect()
+        })
+        .collect()
+}
+
+/// The largest distance from a point to the chain `segments` (its nearest segment), each
+/// segment's own points `lists` ([`own_points`]) measured afresh: for a chain assembled from
+/// parts or edited after its fit, whose recorded figures no longer hold.
+pub(super) fn measured_deviation(
+    input: &ChainInput,
+    segments: &[ChainSegment],
+    lists: &[Vec<usize>],
+    chord_error: f64,
+) -> f64 {
+    let own: Vec<Vec<f64>> = segments
+        .iter()
+        .zip(lists)
+        .map(|(s, list)| {
+            let points: Vec<Point> = list.iter().map(|&i| input.points[i]).collect();
+            deviation(&s.segment, &points, chord_error).distances
+        })
+        .collect();
+    let curves: Vec<LacSegment> = segments.iter().map(|s| s.segment).collect();
+    nearest_deviation(input.points, &curves, lists, &own, chord_error)
+}
+
+/// The original sample range of the points `list` (non-empty, in stroke order).
+pub(super) fn sample_range(indices: &[usize], list: &[usize]) -> (usize, usize) {
+    let first = list.first().map_or(0, |&i| indices[i]);
+    let last = list.last().map_or(first, |&i| indices[i]);
+    (first, last)
+}
+
 /// The B-spline parameter interval spanned by the points `list` (indices into `params`, each
 /// point's B-spline parameter); `None` when `list` is empty.
 pub(super) fn param_interval(params: &[f64], list: &[usize]) -> Option<(f64, f64)> {

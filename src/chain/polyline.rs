@@ -12,12 +12,12 @@
 //! is never touched, and the replacement is taken only where the whole chain then holds.
 
 use super::fit::{
-    Chain, ChainInput, ChainSegment, JointKind, nearest_deviation, param_interval, tile_ranges,
+    Chain, ChainInput, ChainSegment, JointKind, measured_deviation, own_points, param_interval,
+    sample_range, tile_ranges,
 };
 use crate::geom::Point;
 use crate::lac::LacSegment;
 use crate::lac::alpha_search::AlphaSearch;
-use crate::lac::deviation::deviation;
 
 /// `chain` with every segment whose own samples miss `tolerance` replaced by the polyline
 /// through them (see the module documentation), where the chain misses its tolerance and the
@@ -31,7 +31,7 @@ pub(crate) fn join_missing(
     if chain.within_tolerance {
         return None;
     }
-    let lists = own_samples(input, &chain.segments);
+    let lists = own_points(input, &chain.segments);
     let mut out: Vec<ChainSegment> = Vec::with_capacity(chain.segments.len());
     let mut replaced = false;
     // Whether the last segment pushed ends at a polyline (the next one starts at a corner).
@@ -71,42 +71,14 @@ pub(crate) fn join_missing(
     for (s, range) in out.iter_mut().zip(tile_ranges(&starts, input.samples)) {
         s.samples = range;
     }
-    let lists = own_samples(input, &out);
-    let own: Vec<Vec<f64>> = out
-        .iter()
-        .zip(&lists)
-        .map(|(s, list)| {
-            let points: Vec<Point> = list.iter().map(|&i| input.points[i]).collect();
-            deviation(&s.segment, &points, chord_error).distances
-        })
-        .collect();
-    let segments: Vec<LacSegment> = out.iter().map(|s| s.segment).collect();
-    let max_deviation = nearest_deviation(input.points, &segments, &lists, &own, chord_error);
+    let lists = own_points(input, &out);
+    let max_deviation = measured_deviation(input, &out, &lists, chord_error);
     (max_deviation <= tolerance).then(|| Chain {
         segments: out,
         max_deviation,
         within_tolerance: true,
         ..chain.clone()
     })
-}
-
-/// Each segment's own points (indices into `input.points`): those whose original index lies in
-/// its range, a point on a boundary given to the first segment that holds it; none for a segment
-/// without samples.
-fn own_samples(input: &ChainInput, segments: &[ChainSegment]) -> Vec<Vec<usize>> {
-    let mut taken = vec![false; input.points.len()];
-    segments
-        .iter()
-        .map(|s| {
-            if s.params.is_none() {
-                return Vec::new();
-            }
-            (0..input.points.len())
-                .filter(|&i| (s.samples.0..=s.samples.1).contains(&input.indices[i]))
-                .filter(|&i| !std::mem::replace(&mut taken[i], true))
-                .collect()
-        })
-        .collect()
 }
 
 /// The lines from `s`'s start through its own points `list` (in stroke order) to its end: the
@@ -138,14 +110,13 @@ fn polyline(input: &ChainInput, s: &ChainSegment, list: &[usize]) -> Option<Vec<
         if j == 0 {
             held.splice(0..0, vertices[0].1.iter().copied());
         }
-        let first = held.first().map(|&i| input.indices[i]);
-        let last = held.last().map(|&i| input.indices[i]);
         lines.push(ChainSegment {
             segment: line,
-            samples: match (first, last) {
-                (Some(first), Some(last)) => (first, last),
+            samples: if held.is_empty() {
                 // Sample-less: re-tiled by the caller.
-                _ => (s.samples.1, s.samples.1),
+                (s.samples.1, s.samples.1)
+            } else {
+                sample_range(input.indices, &held)
             },
             max_deviation: 0.0,
             rms_deviation: 0.0,

@@ -22,7 +22,7 @@
 //! Where none works the segment is kept as it is.
 
 use super::AlphaBound;
-use super::fit::{ChainSegment, JointKind, param_interval, soften_fits};
+use super::fit::{ChainSegment, JointKind, param_interval, sample_range, soften_fits};
 use super::smooth::SmoothInput;
 use crate::geom::{Point, Vec2};
 use crate::lac::LacSegment;
@@ -144,7 +144,7 @@ pub(super) fn unhook(
         let d = &fit.deviation;
         let curve = ChainSegment {
             segment: fit.segment,
-            samples: range(input.indices, rest_list),
+            samples: sample_range(input.indices, rest_list),
             max_deviation: d.max,
             rms_deviation: d.rms,
             search: fit.search.clone(),
@@ -200,7 +200,7 @@ fn line_segment(
     let (start_shared, end_shared) = (a == s.segment.start(), b == s.segment.end());
     Some(ChainSegment {
         segment: line,
-        samples: range(input.indices, list),
+        samples: sample_range(input.indices, list),
         max_deviation: max,
         rms_deviation: rms,
         search: AlphaSearch {
@@ -218,11 +218,4 @@ fn line_segment(
         alpha_bound: None,
         alpha_uncertainty: None,
     })
-}
-
-/// The original sample range of the points `list` (non-empty, in stroke order).
-fn range(indices: &[usize], list: &[usize]) -> (usize, usize) {
-    let first = list.first().map_or(0, |&i| indices[i]);
-    let last = list.last().map_or(first, |&i| indices[i]);
-    (first, last)
 }

@@ -422,19 +422,20 @@ fn integrate(segment: &LacSegment, a: f64, b: f64) -> Vec2 {
 
 /// [`integrate`] given |κ| at `a` and at `b`.
 fn integrate_within(segment: &LacSegment, a: f64, b: f64, kappa_a: f64, kappa_b: f64) -> Vec2 {
-    if let Some(alpha) = segment.alpha()
-        && alpha < 0.0
-        && kappa_a.max(kappa_b) > SERIES_RATIO * kappa_a.min(kappa_b)
+    let (low, high) = (kappa_a.min(kappa_b), kappa_a.max(kappa_b));
+    // Lines, arcs, and stretches whose curvature changes slowly: the turning bound alone.
+    let Some(alpha) = segment.alpha().filter(|_| high > SERIES_RATIO * low) else {
+        return stepped(segment, a, b, high);
+    };
+    if alpha < 0.0
         && let Some(d) = near_zero(segment, alpha, a, b, kappa_a, kappa_b)
     {
         return d;
     }
-    if let Some(alpha) = segment.alpha()
-        && kappa_a.max(kappa_b) > GRADE_RATIO * kappa_a.min(kappa_b)
-    {
+    if high > GRADE_RATIO * low {
         return graded(segment, alpha, a, b, kappa_a, kappa_b);
     }
-    stepped(segment, a, b, kappa_a.max(kappa_b))
+    stepped(segment, a, b, high)
 }
 
 /// Largest curvature ratio over one stretch of [`graded`]: within it the turning bound κ_max·h
@@ -818,22 +819,9 @@ mod tests {
             for (k0, k1) in [(0.0, 0.136), (-1e-21, -0.136), (0.136, 0.0), (0.001, 0.2)] {
                 let seg = LacSegment::new(Point::new(3.0, -1.0), 0.7, length, Some(alpha), k0, k1)
                     .expect("segment");
-                let feet: Vec<f64> = (1..20)
-                    .map(|i| length * (f64::from(i) / 20.0).sqrt())
-                    .collect();
-                let mut worst: f64 = 0.0;
-                for (p, &s) in points_at(&seg, &feet).iter().zip(&feet) {
-                    worst = worst.max(p.distance(seg.point(s)));
-                }
+                let mut worst = farthest_off_curve(&seg, &[0.1, 0.3, 0.5, 0.75, 0.9]);
                 for &(s, p) in &trace(&seg, 1e-3) {
                     worst = worst.max(p.distance(seg.point(s)));
-                }
-                for s in [0.1, 0.3, 0.5, 0.75, 0.9].map(|f| f * length) {
-                    let forward = seg.start() + integrate(&seg, 0.0, s);
-                    let backward = seg.end() + integrate(&seg, length, s);
-                    worst = worst
-                        .max(forward.distance(seg.point(s)))
-                        .max(backward.distance(seg.point(s)));
                 }
                 assert!(
                     worst <= 1e-10 * length,
@@ -861,25 +849,34 @@ mod tests {
         ] {
             let seg = LacSegment::new(Point::new(3.0, -1.0), 0.7, length, Some(alpha), k0, k1)
                 .expect("segment");
-            let feet: Vec<f64> = (1..20)
-                .map(|i| length * (f64::from(i) / 20.0).sqrt())
-                .collect();
-            let mut worst: f64 = 0.0;
-            for (p, &s) in points_at(&seg, &feet).iter().zip(&feet) {
-                worst = worst.max(p.distance(seg.point(s)));
-            }
-            for s in [0.1, 0.3, 0.5, 0.75, 0.9, 0.99].map(|f| f * length) {
-                let forward = seg.start() + integrate(&seg, 0.0, s);
-                let backward = seg.end() + integrate(&seg, length, s);
-                worst = worst
-                    .max(forward.distance(seg.point(s)))
-                    .max(backward.distance(seg.point(s)));
-            }
+            let worst = farthest_off_curve(&seg, &[0.1, 0.3, 0.5, 0.75, 0.9, 0.99]);
             assert!(
                 worst <= 1e-6 * length,
                 "α {alpha}, κ {k0} → {k1}: {worst} off the curve"
             );
         }
+    }
+
+    /// The farthest of `seg`'s points from its closed form ([`LacSegment::point`]): marched
+    /// foot to foot ([`points_at`], denser towards the end), and integrated in one stretch to
+    /// each of `fractions` of the length from the start and from the end.
+    fn farthest_off_curve(seg: &LacSegment, fractions: &[f64]) -> f64 {
+        let length = seg.length();
+        let feet: Vec<f64> = (1..20)
+            .map(|i| length * (f64::from(i) / 20.0).sqrt())
+            .collect();
+        let mut worst: f64 = 0.0;
+        for (p, &s) in points_at(seg, &feet).iter().zip(&feet) {
+            worst = worst.max(p.distance(seg.point(s)));
+        }
+        for s in fractions.iter().map(|f| f * length) {
+            let forward = seg.start() + integrate(seg, 0.0, s);
+            let backward = seg.end() + integrate(seg, length, s);
+            worst = worst
+                .max(forward.distance(seg.point(s)))
+                .max(backward.distance(seg.point(s)));
+        }
+        worst
     }
 
     /// A spiral (α = 0.5, S = 50) and samples at s = 50·i/40 for i in `range`, offset along the

@@ -114,8 +114,8 @@
 use super::band::{Band, BandCholesky};
 use super::band_lu::BandMatrix;
 use super::fit::{
-    Chain, ChainInput, ChainSegment, JointKind, nearest_deviation, param_interval, soften_fits,
-    tile_ranges,
+    Chain, ChainInput, ChainSegment, JointKind, measured_deviation, nearest_deviation, own_points,
+    param_interval, soften_fits, tile_ranges,
 };
 use crate::bspline::project::Pieces;
 use crate::geom::{Point, Vec2};
@@ -441,7 +441,8 @@ pub(crate) fn smooth_chain(smooth: &SmoothInput) -> Option<Chain> {
     // `src/chain/unhook.rs`). Both hold the segment's own samples (its tiled range); the ranges
     // are tiled again after.
     let mut straightened = Vec::with_capacity(out.len());
-    for mut segment in out {
+    let lists = own_points(smooth.input, &out);
+    for (mut segment, own) in out.into_iter().zip(lists) {
         let bend = segment
             .segment
             .kappa0()
@@ -451,14 +452,6 @@ pub(crate) fn smooth_chain(smooth: &SmoothInput) -> Option<Chain> {
             straightened.push(segment);
             continue;
         }
-        let own: Vec<usize> = match segment.params {
-            Some(_) => (0..smooth.input.points.len())
-                .filter(|&i| {
-                    (segment.samples.0..=segment.samples.1).contains(&smooth.input.indices[i])
-                })
-                .collect(),
-            None => Vec::new(),
-        };
         if soften_isolated(smooth, &mut segment, &own, cap) {
             refitted = true;
             straightened.push(segment);
@@ -480,25 +473,8 @@ pub(crate) fn smooth_chain(smooth: &SmoothInput) -> Option<Chain> {
     }
     // The whole chain's largest distance, each sample to its nearest segment: a part kept G1
     // carries the whole G1 chain's figure, and a sample may lie nearer a neighbouring part.
-    let points = smooth.input.points;
-    let lists: Vec<Vec<usize>> = out
-        .iter()
-        .map(|s| {
-            (0..points.len())
-                .filter(|&i| (s.samples.0..=s.samples.1).contains(&smooth.input.indices[i]))
-                .collect()
-        })
-        .collect();
-    let own: Vec<Vec<f64>> = out
-        .iter()
-        .zip(&lists)
-        .map(|(s, list)| {
-            let pts: Vec<Point> = list.iter().map(|&i| points[i]).collect();
-            deviation(&s.segment, &pts, smooth.chord_error).distances
-        })
-        .collect();
-    let segments: Vec<LacSegment> = out.iter().map(|s| s.segment).collect();
-    let max_deviation = nearest_deviation(points, &segments, &lists, &own, smooth.chord_error);
+    let lists = own_points(smooth.input, &out);
+    let max_deviation = measured_deviation(smooth.input, &out, &lists, smooth.chord_error);
     Some(Chain {
         segments: out,
         max_deviation,
@@ -566,31 +542,9 @@ enum Missed {
 fn smooth_part(smooth: &SmoothInput) -> Result<Chain, Missed> {
     let input = smooth.input;
     let chain = smooth.chain;
-    let points = input.points;
-    // Each G1 segment's local samples (points whose original index lies in its range); a
-    // segment holding none repeats the index of the last sample before it, which may be the
-    // previous part's.
-    let mut assign: Vec<Vec<usize>> = chain
-        .segments
-        .iter()
-        .map(|s| {
-            if s.params.is_none() {
-                return Vec::new();
-            }
-            (0..points.len())
-                .filter(|&i| {
-                    let o = input.indices[i];
-                    o >= s.samples.0 && o <= s.samples.1
-                })
-                .collect()
-        })
-        .collect();
-    // A sample on a range boundary (a segment without samples repeats its neighbour's index)
-    // belongs to one segment only.
-    let mut taken = vec![false; points.len()];
-    for list in &mut assign {
-        list.retain(|&i| !std::mem::replace(&mut taken[i], true));
-    }
+    // Each G1 segment's own samples (a sample on a range boundary, which a segment without
+    // samples repeats, belongs to one segment only).
+    let assign = own_points(input, &chain.segments);
     // One segment has no joint to make smooth: it is its own G2 (and C3) chain.
     if chain.segments.len() == 1 {
         return Ok(Chain {
