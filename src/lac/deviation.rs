@@ -387,24 +387,30 @@ fn point_near(segment: &LacSegment, polyline: &[(f64, Point)], s: f64) -> Point 
 /// the start per point. Exact to about 1e-12 of the length where the curvature varies slowly
 /// (see [`POLISH_STEP_TURN`] for where it does not).
 pub(crate) fn points_at(segment: &LacSegment, s: &[f64]) -> Vec<Point> {
+    let mut out = Vec::with_capacity(s.len());
+    points_at_into(segment, s, &mut out);
+    out
+}
+
+/// [`points_at`] into `out` (cleared first).
+pub(crate) fn points_at_into(segment: &LacSegment, s: &[f64], out: &mut Vec<Point>) {
+    out.clear();
     let length = segment.length();
     let mut at = 0.0;
     let mut p = segment.start();
     // |κ| at `at`, carried from one point to the next.
     let mut here = segment.kappa(0.0).abs();
-    s.iter()
-        .map(|&target| {
-            let target = target.clamp(0.0, length);
-            if target == length {
-                return segment.end();
-            }
-            let there = segment.kappa(target).abs();
-            p += integrate_within(segment, at, target, here, there);
-            at = target;
-            here = there;
-            p
-        })
-        .collect()
+    out.extend(s.iter().map(|&target| {
+        let target = target.clamp(0.0, length);
+        if target == length {
+            return segment.end();
+        }
+        let there = segment.kappa(target).abs();
+        p += integrate_within(segment, at, target, here, there);
+        at = target;
+        here = there;
+        p
+    }));
 }
 
 /// P(b) − P(a) by the 3-point Gauss–Legendre rule in steps turning at most

@@ -104,12 +104,15 @@ pub(super) fn shooting_jacobian(
         .collect();
     // Without C3 rows, a length's column follows from the joints' (below): no construction.
     let scaled = |var: Var| matches!(var, Var::Length(_)) && !solver.c3;
+    // One moved copy of the unknowns, each column's change undone after it (see [`restore`]),
+    // and the feet's and constraints' buffers shared by the columns: a column allocates nothing.
+    let mut xp = x.clone();
+    let (mut feet, mut moved, mut c1) = (Vec::new(), Vec::new(), Vec::new());
     for (col, &var) in vars.iter().enumerate() {
         if scaled(var) {
             continue;
         }
         let (k0, k1) = layout.shooting_reach(var);
-        let mut xp = x.clone();
         set(layout, &mut xp, var, get(layout, x, var) + DIFFERENCE_STEP);
         for k in k0..=k1 {
             // A pose moves its segment rigidly, each point by shift + turn·(P − Pₖ)^⊥ per unit
@@ -131,18 +134,22 @@ pub(super) fn shooting_jacobian(
             } else {
                 let seg = layout.segment(&xp, k, xp.pose[k].0, xp.pose[k].1).ok()?;
                 let ratio = seg.length() / e.segments[k].length();
-                let feet: Vec<f64> = e.feet[k].iter().map(|s| s * ratio).collect();
-                let moved = crate::lac::deviation::points_at(&seg, &feet);
-                for ((m, ((_, nrm), f)), p) in rows.zip(moved) {
+                feet.clear();
+                feet.extend(e.feet[k].iter().map(|s| s * ratio));
+                crate::lac::deviation::points_at_into(&seg, &feet, &mut moved);
+                for ((m, ((_, nrm), f)), &p) in rows.zip(&moved) {
                     jr[(offsets[k] + m, col)] = -nrm.dot((p - *f) / DIFFERENCE_STEP);
                 }
                 seg
             };
             segments[k] = seg;
         }
-        let c1 = solver.constraints(Form::Shooting, &segments, &xp, c3_joints);
-        jc.set_column(col, &((c1 - &c0) / DIFFERENCE_STEP));
+        solver.constraints_into(Form::Shooting, &segments, &xp, c3_joints, &mut c1);
+        for (r, (after, before)) in c1.iter().zip(c0.iter()).enumerate() {
+            jc[(r, col)] = (after - before) / DIFFERENCE_STEP;
+        }
         segments[k0..=k1].copy_from_slice(&e.segments[k0..=k1]);
+        restore(&mut xp, x, var);
     }
     // Lengthening segment k by dv while both its end curvatures shrink by e^{−dv} scales it by
     // e^{dv} about its start (a similarity keeps α): a point at a fixed fraction of the length

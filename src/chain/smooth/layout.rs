@@ -339,6 +339,26 @@ pub(super) fn set(layout: &Layout, x: &mut Params, var: Var, value: f64) {
     }
 }
 
+/// Undoes [`set`] of `var` on `moved`, a copy of `x`: the stored fields copied back, bit for
+/// bit (setting `get` again would round a log-scale α).
+pub(super) fn restore(moved: &mut Params, x: &Params, var: Var) {
+    match var {
+        Var::Theta0 => moved.theta0 = x.theta0,
+        Var::X(k) | Var::Y(k) | Var::Angle(k) => moved.pose[k] = x.pose[k],
+        Var::Joint(j) => moved.u[j] = x.u[j],
+        Var::Length(k) => moved.v[k] = x.v[k],
+        Var::Alpha(k) => moved.alpha[k] = x.alpha[k],
+        Var::StartShift => {
+            moved.shift[0] = x.shift[0];
+            moved.pose[0] = x.pose[0];
+        }
+        Var::EndShift => {
+            moved.shift[1] = x.shift[1];
+            moved.end = x.end;
+        }
+    }
+}
+
 /// The left normal of tangent angle θ.
 pub(super) fn normal(theta: f64) -> Vec2 {
     let (s, c) = theta.sin_cos();

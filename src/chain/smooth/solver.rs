@@ -131,6 +131,20 @@ impl Solver<'_> {
         c3_joints: &[usize],
     ) -> DVector<f64> {
         let mut c = Vec::with_capacity(2 + 3 * segments.len() + c3_joints.len());
+        self.constraints_into(form, segments, x, c3_joints, &mut c);
+        DVector::from_vec(c)
+    }
+
+    /// [`Solver::constraints`] into `c` (cleared first).
+    pub(super) fn constraints_into(
+        &self,
+        form: Form,
+        segments: &[LacSegment],
+        x: &Params,
+        c3_joints: &[usize],
+        c: &mut Vec<f64>,
+    ) {
+        c.clear();
         let end = segments.last().map_or(self.start, |s| s.end());
         c.push((end.x - x.end.x) / self.scale);
         c.push((end.y - x.end.y) / self.scale);
@@ -148,7 +162,6 @@ impl Solver<'_> {
                 c.push(c3_gap(&segments[j - 1], &segments[j]));
             }
         }
-        DVector::from_vec(c)
     }
 
     /// Whether `c` (from [`Solver::constraints`] of an `n`-segment chain) is met to `slack`
