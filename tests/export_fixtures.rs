@@ -635,6 +635,62 @@ fn stroke_files_and_fit_outputs_validate_against_the_schemas() {
     assert!(!curves.is_valid(&bad));
 }
 
+/// What a written segment says of its α (issue 18's honest α), on every fixture segment at the
+/// defaults (a searched range, G2): no α, no claims about one; an α says what chose it and
+/// whether the samples determine it; "determined" only with an uncertainty of at most 0.5 off
+/// the range's bound.
+#[test]
+fn every_written_alpha_says_what_chose_it_and_whether_the_samples_determine_it() {
+    let mut sources = std::collections::BTreeMap::new();
+    for (name, _, _, out) in fixtures() {
+        let doc: serde_json::Value =
+            serde_json::from_str(&CurveFile::from_output(out).to_json()).expect("json");
+        for (c, curve) in doc["curves"].as_array().expect("curves").iter().enumerate() {
+            for (k, seg) in curve["segments"]
+                .as_array()
+                .expect("segments")
+                .iter()
+                .enumerate()
+            {
+                let here = format!("{name} curve {c} segment {k}");
+                let source = seg.get("alpha_source").and_then(|v| v.as_str());
+                let determined = seg.get("alpha_determined").and_then(|v| v.as_bool());
+                if seg["alpha"].is_null() {
+                    assert_eq!((source, determined), (None, None), "{here}");
+                    assert!(seg.get("alpha_uncertainty").is_none(), "{here}");
+                    continue;
+                }
+                let source = source.unwrap_or_else(|| panic!("{here}: an α without a source"));
+                *sources.entry(source.to_string()).or_insert(0usize) += 1;
+                assert!(
+                    ["search", "refinement", "smooth"].contains(&source),
+                    "{here}: {source}"
+                );
+                let determined =
+                    determined.unwrap_or_else(|| panic!("{here}: an α without alpha_determined"));
+                if determined {
+                    let u = seg["alpha_uncertainty"].as_f64().expect("an estimate");
+                    assert!(u <= kansei::chain::UNDETERMINED_ALPHA, "{here}: ± {u}");
+                    assert!(seg.get("alpha_bound").is_none(), "{here}");
+                }
+                if seg.get("alpha_bound").is_some() || seg.get("alpha_uncertainty").is_none() {
+                    assert!(!determined, "{here}");
+                }
+            }
+        }
+    }
+    // The default fits the recorded strokes smooth: most α are the smooth fit's, and a piece of
+    // one segment (no joint to smooth) keeps its G1 search's or refinement's.
+    assert!(
+        sources.get("smooth").copied().unwrap_or(0) > 0,
+        "{sources:?}"
+    );
+    assert!(
+        sources.get("search").copied().unwrap_or(0) > 0,
+        "{sources:?}"
+    );
+}
+
 /// Every number of `a` and `b` (same shape) has the same bits.
 fn same_bits(a: &serde_json::Value, b: &serde_json::Value, at: &str, count: &mut usize) {
     use serde_json::Value;

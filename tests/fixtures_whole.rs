@@ -10,6 +10,8 @@ mod common;
 use std::collections::BTreeSet;
 
 use common::export::{grid_of, project};
+use kansei::chain::AlphaSource;
+use kansei::lac::alpha_search::ALPHA_TOLERANCE;
 use kansei::pipeline::{FitOutput, PipelineOptions, fit_file};
 use kansei::stroke::StrokeFile;
 
@@ -85,15 +87,30 @@ fn check(name: &str, file: &StrokeFile, out: &FitOutput) -> (usize, usize, usize
                 "{here}: ranges do not tile: {ranges:?}"
             );
         }
-        // Every α searched (or forced, or none for a line or an arc) in a G1 chain; a smooth
-        // chain's α is its constrained fit's (its record carries the search of the G1 segment it
-        // started from, none for a line or an arc that a G2 joint bent).
-        let searched = chain.continuity == kansei::chain::Continuity::G1;
+        // Every α accounted for by its record: a source exactly where there is an α; a search's
+        // pick is that search's answer (to its accuracy); the curvature-continuous fit's only
+        // in a chain that fitted some part smooth (the default asks for G2; a part that could
+        // not be made smooth keeps its G1 segments, searched or refined).
         for (i, s) in chain.segments.iter().enumerate() {
-            assert!(
-                !searched || s.segment.alpha().is_none() || s.search.evaluations > 0,
-                "{here}: segment {i} has α {:?} from no search",
-                s.segment.alpha()
+            let alpha = s.segment.alpha();
+            assert_eq!(
+                alpha.is_some(),
+                s.alpha_source.is_some(),
+                "{here}: segment {i} α {alpha:?}, source {:?}",
+                s.alpha_source
+            );
+            if s.alpha_source == Some(AlphaSource::Search) {
+                let found = s.search.alpha.expect("a search's pick");
+                assert!(
+                    s.search.evaluations > 0
+                        && alpha.is_some_and(|a| (a - found).abs() <= ALPHA_TOLERANCE),
+                    "{here}: segment {i} α {alpha:?} said to be the search's {found}"
+                );
+            }
+            assert_ne!(
+                s.alpha_source,
+                Some(AlphaSource::Fixed),
+                "{here}: segment {i}"
             );
             // An α on the range's bound says so (the default range is [−3, 3]).
             let on_bound = s

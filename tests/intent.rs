@@ -250,9 +250,13 @@ fn a_clear_spiral_has_a_determined_alpha_near_the_planted_one() {
             alpha + delta,
             rms(&forced)
         );
-        // A fixed α is the user's: no bound, no uncertainty.
+        // A fixed α is the user's: no bound, no uncertainty, and the record says whose.
         assert_eq!(forced.segments[0].alpha_bound, None);
         assert_eq!(forced.segments[0].alpha_uncertainty, None);
+        assert_eq!(
+            forced.segments[0].alpha_source,
+            Some(kansei::chain::AlphaSource::Fixed)
+        );
     }
 }
 

@@ -3,7 +3,7 @@
 //! runs, since every byte pair is a small move. Fails on a panic, on any failure other than a
 //! documented input error, and on a broken guarantee (checked independently of the fitter's own
 //! report by `tests/common/adversarial.rs`: distance of every represented sample to the chain,
-//! ranges tiling their piece, every α searched).
+//! ranges tiling their piece, every α accounted for by its record's `alpha_source`).
 #![no_main]
 
 use libfuzzer_sys::fuzz_target;

@@ -380,7 +380,8 @@ pub fn segment_table(
                     let s = &seg.segment;
                     ui.label(alpha_text(seg)).on_hover_text(
                         "α ± its standard error; \"bound\": on the range's end (the search met \
-                         its wall); \"?\": the samples do not determine it (a near arc or line)",
+                         its wall); \"?\": the samples do not determine it (a near arc or \
+                         line, too few samples)",
                     );
                     ui.label(format!("{:.3}", s.length()));
                     ui.label(format!("{:.4}", s.kappa0()));
@@ -412,7 +413,7 @@ pub fn segment_name(stroke: usize, s: Selection) -> String {
 
 /// A segment's α as the table shows it: `arc/line` without one, the value with its standard
 /// error where estimated, and a mark where it sits on the range's bound (`bound`) or the samples
-/// do not determine it (`?`).
+/// do not determine it (`?`, also where too few samples gave no estimate); a fixed α unmarked.
 pub fn alpha_text(seg: &crate::chain::ChainSegment) -> String {
     let Some(alpha) = seg.segment.alpha() else {
         return "arc/line".into();
@@ -423,7 +424,8 @@ pub fn alpha_text(seg: &crate::chain::ChainSegment) -> String {
     };
     if seg.alpha_bound.is_some() {
         format!("{value} bound")
-    } else if seg.alpha_uncertainty.is_some() && !seg.alpha_determined() {
+    } else if seg.alpha_source != Some(crate::chain::AlphaSource::Fixed) && !seg.alpha_determined()
+    {
         format!("{value} ?")
     } else {
         value

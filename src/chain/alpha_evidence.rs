@@ -18,7 +18,7 @@
 use serde::{Deserialize, Serialize};
 
 use crate::lac::AlphaChoice;
-use crate::lac::alpha_search::ALPHA_TOLERANCE;
+use crate::lac::alpha_search::{ALPHA_TOLERANCE, AlphaSearch};
 
 /// α within this of an end of the allowed range sits on it: the search's own accuracy when its
 /// answer is final.
@@ -59,6 +59,59 @@ impl AlphaBound {
         } else {
             None
         }
+    }
+}
+
+/// What chose a segment's α, and so what the number is evidence of.
+///
+/// A search ([`crate::lac::alpha_search`]) scans α over the segment's own samples with its
+/// joints' positions and tangents held; the G1 chain's refinement then moves α together with
+/// the joints; the curvature-continuous fit chooses it together with the joints' shared
+/// curvatures, the lengths and the poses, where no search with the joints held can reproduce
+/// the segment (its end curvatures would move with α). Each is a minimum of the samples'
+/// squared distances over what it frees; `alpha_search` in the record stays the search the
+/// segment started from.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum AlphaSource {
+    /// The α search of the segment itself: α is its pick, to the search's accuracy
+    /// ([`ALPHA_TOLERANCE`]).
+    Search,
+    /// The G1 chain's refinement, which moved α (or chose one where the search found an arc or
+    /// a line) with the joints' positions and tangents.
+    Refinement,
+    /// The curvature-continuous (G2, C3) fit, with the chain's other unknowns.
+    Smooth,
+    /// The user's (`--alpha`): no evidence either way.
+    Fixed,
+}
+
+impl AlphaSource {
+    /// The source of a G1 chain segment's `alpha` under `choice`, `search` being the search it
+    /// started from: `None` for no α (an arc or a line), [`AlphaSource::Fixed`] for a fixed
+    /// choice, [`AlphaSource::Search`] where α is the search's pick to [`ALPHA_TOLERANCE`],
+    /// else [`AlphaSource::Refinement`].
+    pub fn of_g1(alpha: Option<f64>, search: &AlphaSearch, choice: AlphaChoice) -> Option<Self> {
+        let alpha = alpha?;
+        Some(match (choice, search.alpha) {
+            (AlphaChoice::Fixed(_), _) => AlphaSource::Fixed,
+            (_, Some(found))
+                if search.evaluations > 0 && (alpha - found).abs() <= ALPHA_TOLERANCE =>
+            {
+                AlphaSource::Search
+            }
+            _ => AlphaSource::Refinement,
+        })
+    }
+
+    /// The source of a curvature-continuous chain segment's `alpha` under `choice`: `None` for
+    /// no α, [`AlphaSource::Fixed`] for a fixed choice, else [`AlphaSource::Smooth`].
+    pub fn of_smooth(alpha: Option<f64>, choice: AlphaChoice) -> Option<Self> {
+        alpha?;
+        Some(match choice {
+            AlphaChoice::Fixed(_) => AlphaSource::Fixed,
+            AlphaChoice::Range { .. } => AlphaSource::Smooth,
+        })
     }
 }
 

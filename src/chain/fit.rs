@@ -3,7 +3,7 @@ use rustc_hash::FxHashSet;
 use serde::{Deserialize, Serialize};
 
 use super::alpha_evidence::{
-    ALPHA_DIFFERENCE_STEP, AlphaBound, UNDETERMINED_ALPHA, alpha_uncertainty,
+    ALPHA_DIFFERENCE_STEP, AlphaBound, AlphaSource, UNDETERMINED_ALPHA, alpha_uncertainty,
 };
 use super::refine::{CONVERGED_RMS, RefineOptions, STARTING_CONVERGED_RMS, refine};
 use super::smooth::{Continuity, SmoothInput, smooth_chain};
@@ -194,6 +194,8 @@ pub struct ChainSegment {
     pub rms_deviation: f64,
     /// The α search that started it (the final α may differ after refinement).
     pub search: AlphaSearch,
+    /// What chose its α (`None`: no α, an arc or a line).
+    pub alpha_source: Option<AlphaSource>,
     /// What its start joint is.
     pub start: JointKind,
     /// What its end joint is.
@@ -1543,6 +1545,7 @@ impl<'a> Fitter<'a> {
                 samples: range,
                 max_deviation: evaluated.max,
                 rms_deviation: rms,
+                alpha_source: AlphaSource::of_g1(alpha, &search, self.options.alpha),
                 search,
                 start: state.joints[k].kind,
                 end: state.joints[k + 1].kind,

@@ -29,7 +29,8 @@ mod state;
 mod unhook;
 
 pub use alpha_evidence::{
-    ALPHA_BOUND_TOLERANCE, ALPHA_DIFFERENCE_STEP, AlphaBound, UNDETERMINED_ALPHA, alpha_uncertainty,
+    ALPHA_BOUND_TOLERANCE, ALPHA_DIFFERENCE_STEP, AlphaBound, AlphaSource, UNDETERMINED_ALPHA,
+    alpha_uncertainty,
 };
 pub use fit::{Chain, ChainError, ChainInput, ChainOptions, ChainSegment, JointKind, fit_chain};
 pub use smooth::Continuity;

@@ -132,6 +132,7 @@ fn polyline(input: &ChainInput, s: &ChainSegment, list: &[usize]) -> Option<Vec<
             },
             params: param_interval(input.params, &held),
             alpha_bound: None,
+            alpha_source: None,
             alpha_uncertainty: None,
         });
     }

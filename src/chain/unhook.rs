@@ -21,9 +21,9 @@
 //! is taken); the chain gains one G0 joint per hook, never a segment bending beyond the bound.
 //! Where none works the segment is kept as it is.
 
-use super::AlphaBound;
 use super::fit::{ChainSegment, JointKind, param_interval, sample_range, soften_fits};
 use super::smooth::SmoothInput;
+use super::{AlphaBound, AlphaSource};
 use crate::geom::{Point, Vec2};
 use crate::lac::LacSegment;
 use crate::lac::alpha_search::{AlphaSearch, fit_span};
@@ -147,6 +147,7 @@ pub(super) fn unhook(
             samples: sample_range(input.indices, rest_list),
             max_deviation: d.max,
             rms_deviation: d.rms,
+            alpha_source: AlphaSource::of_g1(fit.segment.alpha(), &fit.search, smooth.alpha),
             search: fit.search.clone(),
             start: if at_start { JointKind::Corner } else { s.start },
             end: if at_start { s.end } else { JointKind::Corner },
@@ -216,6 +217,7 @@ fn line_segment(
         end: if end_shared { s.end } else { JointKind::Corner },
         params: param_interval(input.params, list),
         alpha_bound: None,
+        alpha_source: None,
         alpha_uncertainty: None,
     })
 }

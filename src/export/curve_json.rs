@@ -300,6 +300,9 @@ pub struct SegmentRecord {
     pub end_joint: crate::chain::JointKind,
     /// The α search that started the segment (refinement may have moved α since).
     pub alpha_search: crate::lac::AlphaSearch,
+    /// What chose α (`search`, `refinement`, `smooth`, `fixed`); absent where α is null.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub alpha_source: Option<crate::chain::AlphaSource>,
     /// The end of the allowed α range that α sits on (`min`, `max`; absent for an interior α):
     /// the search met the range's wall there, not a minimum.
     #[serde(default, skip_serializing_if = "Option::is_none")]
@@ -310,8 +313,9 @@ pub struct SegmentRecord {
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub alpha_uncertainty: Option<f64>,
     /// Whether the samples determine α (an uncertainty of at most 0.5, the distance between
-    /// the family's special values being 1); absent where α is null or fixed. Where false, α is
-    /// the search's pick among near-equals (a near arc, a near line, too few samples).
+    /// the family's special values being 1); absent where α is null or fixed. False where α is
+    /// on a bound or its uncertainty could not be estimated (fewer than two samples): α is then
+    /// its source's pick among near-equals (a near arc, a near line, too few samples).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub alpha_determined: Option<bool>,
     /// The logarithmic curvature graphs, when asked for.
@@ -364,12 +368,13 @@ impl SegmentRecord {
             start_joint: seg.start,
             end_joint: seg.end,
             alpha_search: seg.search.clone(),
+            alpha_source: seg.alpha_source,
             alpha_bound: seg.alpha_bound,
             alpha_uncertainty: seg.alpha_uncertainty.filter(|u| u.is_finite()),
             alpha_determined: seg
                 .segment
                 .alpha()
-                .filter(|_| seg.alpha_uncertainty.is_some() || seg.alpha_bound.is_some())
+                .filter(|_| seg.alpha_source != Some(crate::chain::AlphaSource::Fixed))
                 .map(|_| seg.alpha_determined()),
             lcg,
         }

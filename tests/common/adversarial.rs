@@ -13,9 +13,11 @@
 //! [`check`] measures each represented sample's distance to the chain itself, by evaluating
 //! every segment densely (see [`chain_polyline`] for the bound), and checks the report against
 //! it: the chain's `within_tolerance` and `max_deviation`, the segments' ranges tiling their
-//! piece, and every α being searched.
+//! piece, and every α accounted for by its record (`alpha_source`: a search's pick is the
+//! search's answer; no α without a source, no source without an α).
 #![allow(dead_code)]
 
+use kansei::chain::AlphaSource;
 use kansei::geom::Point;
 use kansei::lac::LacSegment;
 use kansei::pipeline::{CurveFit, PipelineError};
@@ -271,8 +273,9 @@ pub struct Breaks {
     pub reported_misses: usize,
     /// Segment ranges that do not tile their piece (messages).
     pub tiling: Vec<String>,
-    /// Segments with an α that no search chose (messages).
-    pub unsearched: Vec<String>,
+    /// Segments whose α its record does not account for (messages): an α without a source, a
+    /// source without an α, or a search's pick that is not the search's answer.
+    pub unsourced: Vec<String>,
 }
 
 impl Breaks {
@@ -281,7 +284,7 @@ impl Breaks {
         self.error.is_none()
             && self.guarantee.is_empty()
             && self.tiling.is_empty()
-            && self.unsearched.is_empty()
+            && self.unsourced.is_empty()
     }
 }
 
@@ -413,10 +416,22 @@ pub fn check(case: &Case, result: &Result<Vec<CurveFit>, PipelineError>) -> Brea
             }
         }
         for (k, s) in chain.segments.iter().enumerate() {
-            if s.segment.alpha().is_some() && s.search.evaluations == 0 {
-                breaks.unsearched.push(format!(
-                    "piece {a}..={b} segment {k}: alpha {:?} never searched",
-                    s.segment.alpha()
+            let alpha = s.segment.alpha();
+            let accounted = match (alpha, s.alpha_source) {
+                (None, None) => true,
+                (Some(alpha), Some(AlphaSource::Search)) => {
+                    s.search.evaluations > 0
+                        && s.search.alpha.is_some_and(|found| {
+                            (alpha - found).abs() <= kansei::lac::alpha_search::ALPHA_TOLERANCE
+                        })
+                }
+                (Some(_), Some(_)) => true,
+                _ => false,
+            };
+            if !accounted {
+                breaks.unsourced.push(format!(
+                    "piece {a}..={b} segment {k}: alpha {alpha:?} with source {:?} (search {:?}, {} evaluations)",
+                    s.alpha_source, s.search.alpha, s.search.evaluations
                 ));
             }
         }

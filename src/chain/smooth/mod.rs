@@ -510,6 +510,7 @@ fn soften_isolated(smooth: &SmoothInput, s: &mut ChainSegment, list: &[usize], c
     s.alpha_uncertainty =
         smooth_alpha_uncertainty(smooth, &fit.segment, list, &d.signed_distances(), &d.feet);
     s.alpha_bound = super::AlphaBound::of(fit.segment.alpha(), smooth.alpha);
+    s.alpha_source = super::AlphaSource::of_g1(fit.segment.alpha(), &fit.search, smooth.alpha);
     s.segment = fit.segment;
     s.max_deviation = d.max;
     s.rms_deviation = d.rms;
@@ -783,6 +784,7 @@ fn finish(
                 max_deviation: max,
                 rms_deviation: rms,
                 search: smooth.chain.segments[layout.origin[k]].search.clone(),
+                alpha_source: super::AlphaSource::of_smooth(e.segments[k].alpha(), smooth.alpha),
                 alpha_bound: super::AlphaBound::of(e.segments[k].alpha(), smooth.alpha),
                 alpha_uncertainty: smooth_alpha_uncertainty(
                     smooth,
