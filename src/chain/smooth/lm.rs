@@ -215,9 +215,10 @@ pub(super) fn positions(mut keys: Vec<(f64, usize)>) -> Vec<usize> {
 /// Projects `x` onto the constraints of `form` by least-norm Newton steps; returns the chain
 /// there, or `None` when the steps do not meet the constraints.
 ///
-/// With `chord`, the constraint Jacobian of the point a trial stepped from is used throughout (a
-/// chord method: a damped step away, it converges in two or three steps without differencing
-/// the chain again). Where it does not converge, the fit projects the trial again without
+/// With `chord`, the constraint Jacobian of the point a trial stepped from, factored once
+/// ([`LeastNorm`]; `Some(None)` where it is singular, and the projection fails), is used
+/// throughout (a chord method: a damped step away, it converges in two or three steps without
+/// differencing the chain again; the trials of one iteration share the factor). Where it does not converge, the fit projects the trial again without
 /// `chord` (fresh Jacobians, a construction per unknown each) before refusing it: on the nine
 /// recorded fixture files in g2 that gives 803 segments against 809 in the same time (with α in
 /// the log scale next to inflections, see `Layout::log_alpha`; before it, fresh projections
@@ -228,7 +229,7 @@ pub(super) fn project(
     layout: &Layout,
     x: &mut Params,
     c3_joints: &[usize],
-    chord: Option<&DMatrix<f64>>,
+    chord: Option<Option<&LeastNorm>>,
 ) -> Option<Vec<LacSegment>> {
     let vars = layout.vars_of(form);
     let n = layout.n();
@@ -241,11 +242,11 @@ pub(super) fn project(
         Form::Forward => 1.0,
     };
     let newton = |x: &mut Params,
-                  fixed: Option<&DMatrix<f64>>,
+                  fixed: Option<Option<&LeastNorm>>,
                   steps: usize|
      -> Option<Vec<LacSegment>> {
         let chord = match fixed {
-            Some(jc) => Some(LeastNorm::new(jc, &rows)?),
+            Some(factor) => Some(factor?),
             None => None,
         };
         let mut previous: Option<f64> = None;
@@ -283,7 +284,7 @@ pub(super) fn project(
                 kept = None;
             }
             previous = Some(size);
-            let step = match (&chord, &kept) {
+            let step = match (chord, &kept) {
                 (Some(chord), _) => chord.step(&c)?,
                 (None, Some(factor)) => factor.step(&c)?,
                 (None, _) => {
@@ -439,7 +440,8 @@ pub(super) fn levenberg_marquardt(
         })
         .collect();
     // The KKT system's band order: the layout, and so the rows, stay fixed through the solve.
-    let nc = constraint_order(Form::Shooting, layout.n(), solver.c3, &c3_joints).len();
+    let constraint_rows = constraint_order(Form::Shooting, layout.n(), solver.c3, &c3_joints);
+    let nc = constraint_rows.len();
     let position = band_order(layout, &vars, nc, &c3_joints);
     let mut lambda = INITIAL_DAMPING;
     let mut growth = DAMPING_GROWTH;
@@ -504,6 +506,8 @@ pub(super) fn levenberg_marquardt(
             for r in 0..nc {
                 rhs[position[m + r]] = -c[r];
             }
+            // The trials' chord projections share one factor of the constraint Jacobian.
+            let mut chord: Option<Option<LeastNorm>> = None;
             while lambda <= MAX_DAMPING {
                 let mut kkt = BandMatrix::zeros(m + nc, lower, upper);
                 for &(i, j, v) in &entries {
@@ -546,13 +550,16 @@ pub(super) fn levenberg_marquardt(
                     break;
                 }
                 let mut trial = moved(layout, x, &vars, &delta);
+                let factor = chord
+                    .get_or_insert_with(|| LeastNorm::new(&jc, &constraint_rows))
+                    .as_ref();
                 let projected = project(
                     Form::Shooting,
                     solver,
                     layout,
                     &mut trial,
                     &c3_joints,
-                    Some(&jc),
+                    Some(factor),
                 )
                 // Chord steps that do not reach the constraints: once more with fresh
                 // Jacobians before the step is refused (see [`project`]).
