@@ -218,7 +218,8 @@ pub(super) fn positions(mut keys: Vec<(f64, usize)>) -> Vec<usize> {
 /// With `chord`, the constraint Jacobian of the point a trial stepped from, factored once
 /// ([`LeastNorm`]; `Some(None)` where it is singular, and the projection fails), is used
 /// throughout (a chord method: a damped step away, it converges in two or three steps without
-/// differencing the chain again; the trials of one iteration share the factor). Where it does not converge, the fit projects the trial again without
+/// differencing the chain again; the trials of one iteration share the factor). Where it does
+/// not converge, the fit projects the trial again without
 /// `chord` (fresh Jacobians, a construction per unknown each) before refusing it: on the nine
 /// recorded fixture files in g2 that gives 803 segments against 809 in the same time (with α in
 /// the log scale next to inflections, see `Layout::log_alpha`; before it, fresh projections
