@@ -440,6 +440,18 @@ pub(super) fn levenberg_marquardt(
                 .collect()
         })
         .collect();
+    // Where JᵀJ can be nonzero: column j's rows are the unknowns that share a segment with it
+    // (see [`normal_equations`]), and its diagonal.
+    let mut pattern: Vec<Vec<usize>> = (0..m).map(|j| vec![j]).collect();
+    for columns in &reaching {
+        for &j in columns {
+            pattern[j].extend(columns);
+        }
+    }
+    for rows in &mut pattern {
+        rows.sort_unstable();
+        rows.dedup();
+    }
     // The KKT system's band order: the layout, and so the rows, stay fixed through the solve.
     let constraint_rows = constraint_order(Form::Shooting, layout.n(), solver.c3, &c3_joints);
     let nc = constraint_rows.len();
@@ -484,8 +496,8 @@ pub(super) fn levenberg_marquardt(
         'assemble: for _ in 0..=m {
             // The KKT system [A + λD, Jcᵀ; Jc, 0] in the band order, as its nonzero entries.
             let mut entries = Vec::new();
-            for j in 0..m {
-                for i in 0..m {
+            for (j, rows) in pattern.iter().enumerate() {
+                for &i in rows {
                     if a[(i, j)] != 0.0 || i == j {
                         entries.push((position[i], position[j], a[(i, j)]));
                     }
