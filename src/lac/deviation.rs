@@ -171,6 +171,23 @@ pub(crate) fn deviation_near(
     Some(summarise(d))
 }
 
+/// [`deviation_near`] of one sample `q` from `seed`: its distance, without the record's vectors
+/// (the same iteration, so the same number); `None` where [`deviation_near`] gives none.
+pub(crate) fn distance_near(segment: &LacSegment, q: Point, seed: f64) -> Option<f64> {
+    let length = segment.length();
+    let seed = seed.clamp(0.0, length);
+    let start = if seed == length {
+        segment.end()
+    } else {
+        let (here, there) = (segment.kappa(0.0).abs(), segment.kappa(seed).abs());
+        segment.start() + integrate_within(segment, 0.0, seed, here, there)
+    };
+    let foot = newton_foot(segment, q, seed, start, |from, to, p| {
+        p + integrate(segment, from, to)
+    });
+    (foot.settled && foot.normal.is_some()).then(|| q.distance(foot.p))
+}
+
 /// Exact distances from `samples` (ordered along the segment) to `segment` by Newton's method
 /// on the foot-point equation, marching along the segment from one sample's foot to the next
 /// (each seeded one chord between the samples beyond the previous foot; the first by its

@@ -248,7 +248,8 @@ pub(super) fn distance_at_joint(
     at_end: bool,
 ) -> f64 {
     let seed = if at_end { segment.length() } else { 0.0 };
-    deviation_near(segment, &[q], &[seed]).map_or_else(|| distance(solver, segment, q), |d| d.max)
+    crate::lac::deviation::distance_near(segment, q, seed)
+        .unwrap_or_else(|| distance(solver, segment, q))
 }
 
 /// The distances from `points` to `segment`, each foot polished by Newton's method from its foot
