@@ -76,7 +76,7 @@ impl Solver<'_> {
                 ),
                 _ => deviation(seg, &pts, self.chord_error),
             };
-            let foot_points = if d.foot_points.len() == pts.len() {
+            let mut foot_points = if d.foot_points.len() == pts.len() {
                 std::mem::take(&mut d.foot_points)
             } else {
                 d.feet
@@ -87,26 +87,21 @@ impl Solver<'_> {
                     })
                     .collect()
             };
-            let residuals: Vec<f64> = d
-                .distances
-                .iter()
-                .zip(&d.sides)
-                .map(|(dist, side)| if *side < 0.0 { -dist } else { *dist })
-                .collect();
+            // The signed distances, in place of the distances.
+            let mut residuals = std::mem::take(&mut d.distances);
+            for (r, side) in residuals.iter_mut().zip(&d.sides) {
+                if *side < 0.0 {
+                    *r = -*r;
+                }
+            }
             // The residual's gradient direction: the normal at an interior foot, the direction
             // from the foot where the foot is a segment end (a sample beyond it).
-            let foot_points: Vec<(Point, Vec2)> = foot_points
-                .into_iter()
-                .zip(pts.iter().zip(&residuals))
-                .map(|((f, n), (q, r))| {
-                    let v = *q - f;
-                    if v.hypot() > 0.0 && *r != 0.0 {
-                        (f, v / *r)
-                    } else {
-                        (f, n)
-                    }
-                })
-                .collect();
+            for ((f, n), (q, r)) in foot_points.iter_mut().zip(pts.iter().zip(&residuals)) {
+                let v = *q - *f;
+                if v.hypot() > 0.0 && *r != 0.0 {
+                    *n = v / *r;
+                }
+            }
             e.cost += residuals
                 .iter()
                 .zip(list)
