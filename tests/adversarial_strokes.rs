@@ -83,7 +83,8 @@ fn every_case_within_the_guarantee(options: &PipelineOptions) {
     }
     eprintln!(
         "{} strokes: {errors} errors, {guarantee} guarantee breaks, {tiling} tiling breaks, \
-         {unsourced} with an α its record does not account for; {misses} chains miss the tolerance and say so",
+         {unsourced} with an α its record does not account for; {misses} chains miss the \
+         tolerance and say so",
         all.len()
     );
     for (c, n) in CLASSES.iter().zip(&per_class) {

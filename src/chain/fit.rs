@@ -1671,6 +1671,19 @@ pub(super) fn param_interval(params: &[f64], list: &[usize]) -> Option<(f64, f64
         })
 }
 
+/// `segments`' sample ranges tiled afresh over `piece` ([`tile_ranges`] from each one's first
+/// sample, a segment without samples, `params: None`, holding none): after segments were
+/// replaced or inserted.
+pub(super) fn retile(segments: &mut [ChainSegment], piece: (usize, usize)) {
+    let starts: Vec<Option<usize>> = segments
+        .iter()
+        .map(|s| s.params.map(|_| s.samples.0))
+        .collect();
+    for (s, range) in segments.iter_mut().zip(tile_ranges(&starts, piece)) {
+        s.samples = range;
+    }
+}
+
 /// Each segment's inclusive range of original sample indices from its first one (`None`: it
 /// holds none): the ranges tile the piece `piece`, a segment ending where the next begins; a
 /// segment without samples gets the single index where it sits.

@@ -13,7 +13,7 @@
 
 use super::fit::{
     Chain, ChainInput, ChainSegment, JointKind, measured_deviation, own_points, param_interval,
-    sample_range, tile_ranges,
+    retile, sample_range,
 };
 use crate::geom::Point;
 use crate::lac::LacSegment;
@@ -67,10 +67,7 @@ pub(crate) fn join_missing(
     if !replaced {
         return None;
     }
-    let starts: Vec<Option<usize>> = out.iter().map(|s| s.params.map(|_| s.samples.0)).collect();
-    for (s, range) in out.iter_mut().zip(tile_ranges(&starts, input.samples)) {
-        s.samples = range;
-    }
+    retile(&mut out, input.samples);
     let lists = own_points(input, &out);
     let max_deviation = measured_deviation(input, &out, &lists, chord_error);
     (max_deviation <= tolerance).then(|| Chain {

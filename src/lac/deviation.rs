@@ -10,10 +10,10 @@
 //! κ is a power of the distance from it that the rule follows badly, the integral is the
 //! power series of e^{iθ} about the zero instead, exact term by term (`near_zero`); a stretch
 //! over which |κ| changes more than twofold is cut where it doubles (`graded`), so that the
-//! turning bound of each part stays near its true turning. The samples, ordered along the span, are projected onto it
-//! by a walk that starts each search at the previous sample's foot: the cost is about one pass
-//! over the polyline per span, not samples × polyline. Those distances are exact to within
-//! `chord_error` (the polyline lies inside the curve's convex side by at most that much);
+//! turning bound of each part stays near its true turning. The samples, ordered along the span, are
+//! projected onto it by a walk that starts each search at the previous sample's foot: the cost is
+//! about one pass over the polyline per span, not samples × polyline. Those distances are exact to
+//! within `chord_error` (the polyline lies inside the curve's convex side by at most that much);
 //! [`deviation`] then polishes them into exact foot-point distances.
 
 use super::segment::LacSegment;

@@ -430,7 +430,8 @@ pub fn check(case: &Case, result: &Result<Vec<CurveFit>, PipelineError>) -> Brea
             };
             if !accounted {
                 breaks.unsourced.push(format!(
-                    "piece {a}..={b} segment {k}: alpha {alpha:?} with source {:?} (search {:?}, {} evaluations)",
+                    "piece {a}..={b} segment {k}: alpha {alpha:?} with source {:?} \
+                     (search {:?}, {} evaluations)",
                     s.alpha_source, s.search.alpha, s.search.evaluations
                 ));
             }

@@ -42,9 +42,9 @@
 //! chain whose joints meet to a tenth of the tolerance (the answer's joints meet exactly once it
 //! is laid out forward). The Jacobian: a change of one unknown rebuilds its one or two
 //! segments, differenced at the samples' foot points (a pose's columns are those of a rigid
-//! motion, and a length's follows from the curvatures' by a scaling identity). Samples near a joint are handed to the
-//! neighbour that is nearer after every accepted step: a joint slides along the data as the fit
-//! moves it.
+//! motion, and a length's follows from the curvatures' by a scaling identity). Samples near a joint
+//! are handed to the neighbour that is nearer after every accepted step: a joint slides along the
+//! data as the fit moves it.
 //!
 //! Starting point: the G1 chain (its joints' poses, lengths and α). A joint's curvature starts
 //! at the B-spline's there (the G1 chain's two sides differ, the C2 B-spline within the
@@ -84,25 +84,25 @@
 //! so: the samples ask for a tighter bend there than a smooth chain may make (on the fixture
 //! strokes, 18 such corners made 16 more curves G2 throughout; cutting more segments or starting
 //! again from other joint curvatures first never found a smooth chain there, and took a third
-//! of the painting's smooth fit). And where a part fails whose first (last) segment leaves its corner
-//! bending beyond the bound (a hook at a corner, κ = 12 /px on painting strokes), that segment's
-//! other joint becomes a corner and it stays as the G1 chain has it, but for its tangents: a
-//! segment between two corners has both free (a corner is G0), and where the G1 chain's curl
-//! beyond the bound they are turned as the G1 chain's piece ends are (`soften_isolated`). One
-//! that still curls beyond the bound at a free end after those turns hooks there, and says so:
-//! it becomes the line between its ends where that holds its samples, else a line to the sample
-//! next to the curl and a segment on from it, meeting at a new corner (`src/chain/unhook.rs`). On
-//! the nine recorded fixture files 28 segments bent beyond the bound (4 tighter than half a
-//! tolerance in radius) before the hooks were cut, none now, for 26 segments more (820 → 846,
-//! most of them lines of a pixel or three at a painting stroke's reversal). A least-squares chain that
-//! misses the tolerance by a little is first refitted towards the minimax fit of the same
-//! segments (Lawson's reweighting, a few rounds). When the solved chain still leaves a
-//! sample farther than the tolerance from its nearest segment, every segment that misses is cut
-//! at its middle (a new joint with that point's curvature: the two halves are the same curve, so
-//! the chain stays on its constraints) and the fit runs again, at most [`MAX_CUT_ROUNDS`] rounds and until
-//! [`STALLED_ROUNDS`] rounds in a row bring the worst sample no nearer. When that is not enough,
-//! a part has more than [`MAX_SEGMENTS`] segments, or a chain cannot be built at all, the part
-//! keeps its G1 segments and the chain says [`Continuity::G1`].
+//! of the painting's smooth fit). And where a part fails whose first (last) segment leaves its
+//! corner bending beyond the bound (a hook at a corner, κ = 12 /px on painting strokes), that
+//! segment's other joint becomes a corner and it stays as the G1 chain has it, but for its
+//! tangents: a segment between two corners has both free (a corner is G0), and where the G1 chain's
+//! curl beyond the bound they are turned as the G1 chain's piece ends are (`soften_isolated`). One
+//! that still curls beyond the bound at a free end after those turns hooks there, and says so: it
+//! becomes the line between its ends where that holds its samples, else a line to the sample next
+//! to the curl and a segment on from it, meeting at a new corner (`src/chain/unhook.rs`). On the
+//! nine recorded fixture files 28 segments bent beyond the bound (4 tighter than half a tolerance
+//! in radius) before the hooks were cut, none now, for 26 segments more (820 → 846, most of them
+//! lines of a pixel or three at a painting stroke's reversal). A least-squares chain that misses
+//! the tolerance by a little is first refitted towards the minimax fit of the same segments
+//! (Lawson's reweighting, a few rounds). When the solved chain still leaves a sample farther than
+//! the tolerance from its nearest segment, every segment that misses is cut at its middle (a new
+//! joint with that point's curvature: the two halves are the same curve, so the chain stays on its
+//! constraints) and the fit runs again, at most [`MAX_CUT_ROUNDS`] rounds and until
+//! [`STALLED_ROUNDS`] rounds in a row bring the worst sample no nearer. When that is not enough, a
+//! part has more than [`MAX_SEGMENTS`] segments, or a chain cannot be built at all, the part keeps
+//! its G1 segments and the chain says [`Continuity::G1`].
 //!
 //! ## Files
 //! This file holds the parts' orchestration (corners, cut rounds, minimax, the record);
@@ -115,7 +115,7 @@ use super::band::{Band, BandCholesky};
 use super::band_lu::BandMatrix;
 use super::fit::{
     Chain, ChainInput, ChainSegment, JointKind, measured_deviation, nearest_deviation, own_points,
-    param_interval, soften_fits, tile_ranges,
+    param_interval, retile, soften_fits, tile_ranges,
 };
 use crate::bspline::project::Pieces;
 use crate::geom::{Point, Vec2};
@@ -246,8 +246,8 @@ pub const STALLED_ROUNDS: usize = 2;
 
 /// Rounds of cutting (every segment that misses the tolerance, at its middle) before the
 /// smooth fit gives up and the G1 chain is kept; it also gives up after [`STALLED_ROUNDS`]
-/// rounds that do not bring the worst sample nearer. Six rounds can cut a segment into 64, as the G1 chain's
-/// subdivision can ([`super::ChainOptions::max_depth`]).
+/// rounds that do not bring the worst sample nearer. Six rounds can cut a segment into 64, as the
+/// G1 chain's subdivision can ([`super::ChainOptions::max_depth`]).
 pub const MAX_CUT_ROUNDS: usize = 6;
 
 /// An unknown within this of its bound (α, a log-curvature, a log-length: all dimensionless)
@@ -263,11 +263,11 @@ const MINIMAX_REACH: f64 = 1.5;
 /// trial) are met to this fraction of the tolerance, not exactly: the next step's linearised
 /// constraints carry the gaps left (the KKT system's right-hand side), and the fit's answer is
 /// laid out forward, joints meeting by construction and the end point to [`END_TOLERANCE`],
-/// before any distance is reported. Exact trials took a Newton step per factor of 3 or so from a step's violation
-/// (1e-3 … 1e-1 of the extent) down to 1e-10, most of the smooth fit's time. On the fixture
-/// strokes in g2, gaps of 1e-4 of the extent gave 1.40 s for the nine files (1.81 s exact), 1e-3
-/// 1.22 s, both with 261 of 263 curves G2; 1e-2 lost a curve. A tenth of the tolerance (over
-/// an extent of 300 tolerances, 3e-4) gives 1.24 s.
+/// before any distance is reported. Exact trials took a Newton step per factor of 3 or so from a
+/// step's violation (1e-3 … 1e-1 of the extent) down to 1e-10, most of the smooth fit's time. On
+/// the fixture strokes in g2, gaps of 1e-4 of the extent gave 1.40 s for the nine files (1.81 s
+/// exact), 1e-3 1.22 s, both with 261 of 263 curves G2; 1e-2 lost a curve. A tenth of the tolerance
+/// (over an extent of 300 tolerances, 3e-4) gives 1.24 s.
 const TRIAL_GAP_TOLERANCES: f64 = 0.1;
 
 /// The end point is met to this fraction of the piece's extent (rounding of the integration is
@@ -423,17 +423,7 @@ pub(crate) fn smooth_chain(smooth: &SmoothInput) -> Option<Chain> {
     }
     // The parts' ranges tiled as one piece: a segment holding no samples has the one-sample
     // range of the last sample before it, also at the start of a part.
-    let tile = |out: &mut Vec<ChainSegment>| {
-        let starts: Vec<Option<usize>> =
-            out.iter().map(|s| s.params.map(|_| s.samples.0)).collect();
-        for (s, range) in out
-            .iter_mut()
-            .zip(tile_ranges(&starts, smooth.input.samples))
-        {
-            s.samples = range;
-        }
-    };
-    tile(&mut out);
+    retile(&mut out, smooth.input.samples);
     // A segment between two corners (or a corner and the stroke's end) has both tangents free,
     // but kept the G1 chain's, which curl where the G1 joint bent beyond the bound: its ends are
     // turned as the G1 chain's piece ends are (see [`soften_tries`]). One that still curls
@@ -463,7 +453,7 @@ pub(crate) fn smooth_chain(smooth: &SmoothInput) -> Option<Chain> {
         }
     }
     let mut out = straightened;
-    tile(&mut out);
+    retile(&mut out, smooth.input.samples);
     if !refitted {
         return Some(Chain {
             segments: out,
