@@ -80,3 +80,60 @@ fn too_few_or_bad_samples_give_no_jitter_and_no_panic() {
     let same = vec![Point::new(1.0, 1.0); 50];
     assert_eq!(NoiseFloor::estimate(&same).floor, 0.0);
 }
+
+/// The arc of [`arc`] sampled every `spacing` units, with Gaussian jitter of `jitter` on each
+/// coordinate, then rounded to whole pixels: a shaky mouse. Returns the samples and each one's
+/// distance from the true arc.
+fn shaky(spacing: f64, jitter: f64, seed: u64) -> (Vec<Point>, Vec<f64>) {
+    let mut rng = Rng::new(seed);
+    let n = (600.0 / spacing) as usize;
+    let centre = Point::new(500.3, 400.6);
+    let points: Vec<Point> = (0..n)
+        .map(|i| {
+            let a = 2.0 * i as f64 / n as f64;
+            let p = centre + kansei::geom::Vec2::new(300.0 * a.cos(), 300.0 * a.sin());
+            Point::new(
+                (p.x + jitter * rng.normal()).round(),
+                (p.y + jitter * rng.normal()).round(),
+            )
+        })
+        .collect();
+    let off = points
+        .iter()
+        .map(|p| (p.distance(centre) - 300.0).abs())
+        .collect();
+    (points, off)
+}
+
+#[test]
+fn jitter_on_a_pixel_grid_raises_the_floor_to_what_the_samples_need() {
+    // Jitter of a third of a pixel, then rounding: σ across the curve is about 1.44 times the
+    // rounding's own, which a noise-free staircase can also read (up to 1.45 times), so σ alone
+    // cannot tell them apart. The coordinates reversing where they move most can: rounding is
+    // monotone. The floor must then cover the samples' real excursions from the curve.
+    for (k, spacing) in [0.3, 0.9].into_iter().enumerate() {
+        for seed in 1..=4 {
+            let (points, off) = shaky(spacing, 0.3, 10 * k as u64 + seed);
+            let noise = NoiseFloor::estimate(&points);
+            assert_eq!(noise.grid, Some(1.0));
+            let outside = off.iter().filter(|d| **d > noise.floor).count();
+            assert!(
+                outside * 100 <= points.len(),
+                "spacing {spacing}, seed {seed}: {outside} of {} samples beyond the floor {noise:?}",
+                points.len()
+            );
+            // And not beyond what the noise itself reaches (its σ across the curve is
+            // √(0.3² + 1/12) = 0.42; a fifth over the expected largest excursion).
+            let true_sigma = (0.09f64 + 1.0 / 12.0).sqrt();
+            assert!(
+                noise.floor <= 1.2 * noise_multiple(points.len()) * true_sigma,
+                "spacing {spacing}, seed {seed}: {noise:?}"
+            );
+        }
+        // The same arc rounded without jitter never reverses a coordinate where it moves most:
+        // its floor stays the worst rounding.
+        let (points, _) = shaky(spacing, 0.0, 1);
+        let noise = NoiseFloor::estimate(&points);
+        assert_eq!(noise.floor, std::f64::consts::FRAC_1_SQRT_2, "{noise:?}");
+    }
+}

@@ -23,10 +23,14 @@
 //! On a grid the local fits take samples a few steps apart ([`GRID_DECORRELATION_STEPS`]):
 //! rounding errors of neighbouring pixels are one staircase, not independent noise.
 //!
-//! The floor the tolerance may not go below ([`NoiseFloor::floor`]) combines the grid's worst
-//! rounding with the jitter beyond the grid times the largest excursion `n` samples of it
-//! reach ([`noise_multiple`], `√(2·ln n)`), in quadrature: the true curve then lies within the
-//! tolerance of (nearly) every sample, so the fit need not chase any.
+//! The floor the tolerance may not go below ([`NoiseFloor::floor`]): on a grid whose samples are
+//! only rounded, the grid's worst rounding `q·√2/2` (the true curve is within it of every
+//! sample); where there is jitter, the larger of that and the largest excursion `n` samples of
+//! the noise reach ([`noise_multiple`], `√(2·ln n)` times σ). A grid's samples are jittered
+//! before rounding where the coordinate that moves most reverses its direction
+//! ([`JITTER_REVERSALS`]; rounding is monotone, so it never does on a smooth curve), or where σ
+//! stands clear of the staircase a grid alone reads ([`GRID_STAIRCASE_RATIO`]). The true curve
+//! then lies within the tolerance of (nearly) every sample, so the fit need not chase any.
 
 use crate::geom::Point;
 
@@ -76,13 +80,13 @@ const MIN_GRID_DIFFERENCES: usize = 8;
 /// few samples to tell the jitter from the grid).
 pub const GRID_DECORRELATION_STEPS: f64 = 2.0;
 
-/// On a grid, σ up to this multiple of the grid's own `q/√12` is the grid's: along a slowly
-/// turning curve the rounding errors of neighbouring samples are one staircase (a sawtooth
-/// along the curve), not independent noise, and the local fits read part of it as more noise.
-/// Measured on noise-free planted curves on a whole-pixel grid sampled every 0.25 to 2.7 px
-/// (after thinning): σ from 0.8 to 1.45 times `q/√12`. Up to this, σ is the grid's alone;
-/// beyond it there is jitter, which breaks the staircase up (rounding jittered samples is
-/// independent), and the jitter is what σ holds beyond the grid's own `q/√12`.
+/// On a grid, σ up to this multiple of the grid's own `q/√12` can be the grid's alone: along a
+/// slowly turning curve the rounding errors of neighbouring samples are one staircase (a
+/// sawtooth along the curve), not independent noise, and the local fits read part of it as more
+/// noise. Measured on noise-free planted curves on a whole-pixel grid sampled every 0.25 to
+/// 2.7 px (after thinning): σ from 0.8 to 1.45 times `q/√12`. Beyond it there is jitter. Within
+/// it there may be too (0.3 px of jitter reads 1.03 to 1.9 times `q/√12`): reversals of the
+/// coordinate that moves most tell ([`JITTER_REVERSALS`]).
 pub const GRID_STAIRCASE_RATIO: f64 = 1.5;
 
 /// Fewest standardised residuals for a jitter estimate (a stroke of fewer samples gets none).
@@ -121,30 +125,30 @@ impl NoiseFloor {
             Some(q) => jitter_sigma(&thinned(&distinct, GRID_DECORRELATION_STEPS * q)),
             None => jitter_sigma(&distinct),
         };
-        let floor = floor_of(grid, sigma, distinct.len());
+        let reversed = grid.is_some() && reversals(&distinct) >= JITTER_REVERSALS;
+        let floor = floor_of(grid, sigma, distinct.len(), reversed);
         NoiseFloor { grid, sigma, floor }
     }
 
-    /// The tolerance floor `√((q·√2/2)² + (k·σ_j)²)`: `q·√2/2` the grid's worst rounding (0
-    /// without a grid), `σ_j = √(σ² − q²/12)` the jitter beyond the grid's share of σ (none
-    /// while σ is within the grid's staircase, [`GRID_STAIRCASE_RATIO`]), `k`
-    /// the expected largest excursion of the stroke's samples in σ ([`noise_multiple`]). On a pure grid it is the worst rounding (the true curve is within it
-    /// of every sample); on pure jitter, `k·σ`.
+    /// The tolerance floor: `q·√2/2`, the grid's worst rounding, on a grid whose samples are
+    /// only rounded (no reversals, σ within the grid's staircase); otherwise the larger of that
+    /// (0 without a grid) and `k·σ`, `k` the expected largest excursion of the stroke's samples
+    /// in σ ([`noise_multiple`]). Rounding jittered samples is noise independent from sample to
+    /// sample like the jitter, so on a jittered grid all of σ counts.
     pub fn floor(&self) -> f64 {
         self.floor
     }
 }
 
-fn floor_of(grid: Option<f64>, sigma: f64, samples: usize) -> f64 {
+fn floor_of(grid: Option<f64>, sigma: f64, samples: usize, reversed: bool) -> f64 {
     let q = grid.unwrap_or(0.0);
     let worst_rounding = q * std::f64::consts::FRAC_1_SQRT_2;
-    let grid_sigma = q / 12f64.sqrt();
-    let jitter = if sigma <= GRID_STAIRCASE_RATIO * grid_sigma {
-        0.0
+    let staircase = grid.is_some() && !reversed && sigma <= GRID_STAIRCASE_RATIO * q / 12f64.sqrt();
+    if staircase {
+        worst_rounding
     } else {
-        (sigma * sigma - grid_sigma * grid_sigma).sqrt()
-    };
-    worst_rounding.hypot(noise_multiple(samples) * jitter)
+        worst_rounding.max(noise_multiple(samples) * sigma)
+    }
 }
 
 /// The multiple of the jitter that the largest of `samples` excursions reaches:
@@ -152,6 +156,31 @@ fn floor_of(grid: Option<f64>, sigma: f64, samples: usize) -> f64 {
 pub fn noise_multiple(samples: usize) -> f64 {
     let n = samples.max(1) as f64;
     (2.0 * n.ln()).sqrt().max(NOISE_MULTIPLE)
+}
+
+/// Fewest reversals that show jitter on a grid: the coordinate that moves more turning back
+/// between consecutive distinct samples (each move at least as long along it as across it). Rounded noise-free planted
+/// curves (60 random chains sampled every 0.3, 0.9 and 2.7 px) show none; 0.3 px of jitter shows
+/// hundreds on dense strokes and a few on sparse ones (at 2.7 px between samples some show none,
+/// and only σ can tell).
+pub const JITTER_REVERSALS: usize = 3;
+
+/// How many times a coordinate reverses its direction while it is the one moving more: for
+/// consecutive distinct points a, b, c, the moves b − a and c − b along an axis nonzero and of
+/// opposite signs, each at least as long along that axis as across it. Rounding is monotone,
+/// so rounding a smooth curve never does it: where a coordinate turns back, the curve moves
+/// mostly along the other axis. Jitter of a fraction of the grid's step does it at every few
+/// samples of a dense stroke.
+fn reversals(points: &[Point]) -> usize {
+    points
+        .windows(3)
+        .map(|w| {
+            let (u, v) = (w[1] - w[0], w[2] - w[1]);
+            let x = u.x * v.x < 0.0 && u.x.abs() >= u.y.abs() && v.x.abs() >= v.y.abs();
+            let y = u.y * v.y < 0.0 && u.y.abs() >= u.x.abs() && v.y.abs() >= v.x.abs();
+            usize::from(x) + usize::from(y)
+        })
+        .sum()
 }
 
 /// Every k-th point, k the smallest stride that makes the median spacing between kept points
@@ -200,6 +229,10 @@ fn jitter_sigma(points: &[Point]) -> f64 {
         .windows(WINDOW)
         .filter_map(standardised_residual)
         .collect();
+    trimmed_rms(residuals)
+}
+
+fn trimmed_rms(residuals: Vec<f64>) -> f64 {
     if residuals.len() < MIN_RESIDUALS {
         return 0.0;
     }

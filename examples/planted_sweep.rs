@@ -1,0 +1,205 @@
+//! Random planted G2 chains through the default pipeline: how often the fit comes back as the
+//! hand meant it, on curves no fixture was tuned to.
+//!
+//! Each case is a chain of one to three log-aesthetic segments with random α, lengths and
+//! curvatures (inflections through α < 0 segments included), drawn three ways: on a whole-pixel
+//! grid (a mouse), with 0.3 px of jitter then rounded (a shaky mouse), and a quarter of the size
+//! in millimetres with 0.02 mm of noise (a tablet). Fitted with the defaults (no tolerance
+//! given), each is checked as `tests/intent.rs` checks its three planted cases: one piece, no more
+//! segments than planted, the curvature profile within 5 % of the planted curve's, within the
+//! reported tolerance of the planted curve, every sample within the tolerance.
+//!
+//! `cargo run --release --example planted_sweep [cases] [seed] [dir]` (defaults 200 and 1):
+//! with a directory, each failing case's stroke is written there as `<case>-<kind>.json`
+//! (`kansei-stroke`), to fit again with `kansei fit`.
+
+#[path = "../tests/common/mod.rs"]
+mod common;
+
+use common::Rng;
+use common::planted::{distance_between, profile_error, samples};
+use kansei::geom::{Point, Vec2};
+use kansei::lac::LacSegment;
+use kansei::pipeline::{PipelineOptions, StrokeOutcome, fit_with_noise};
+use kansei::stroke::{Stroke, Units};
+
+/// Largest total turning of a planted chain (radians): beyond about a turn a stroke comes near
+/// itself and "nearest point" comparisons stop meaning the same place.
+const MAX_TURNING: f64 = 5.0;
+
+/// A random chain in pixels: (segments, the parts for the report).
+fn random_chain(rng: &mut Rng) -> Option<Vec<LacSegment>> {
+    let m = 1 + (rng.uniform() * 3.0) as usize;
+    let log_uniform =
+        |rng: &mut Rng, a: f64, b: f64| (a.ln() + (b.ln() - a.ln()) * rng.uniform()).exp();
+    let mut kappa = log_uniform(rng, 0.003, 0.03) * if rng.uniform() < 0.5 { -1.0 } else { 1.0 };
+    let (mut p, mut theta) = (
+        Point::new(400.0, 300.0),
+        rng.uniform() * std::f64::consts::TAU,
+    );
+    let mut chain = Vec::new();
+    for _ in 0..m {
+        let length = 80.0 + 120.0 * rng.uniform();
+        let (alpha, end) = if kappa == 0.0 {
+            // Leaving an inflection: α < 0 to a curvature of either sign.
+            let alpha = -0.3 - 1.2 * rng.uniform();
+            let k = log_uniform(rng, 0.003, 0.03) * if rng.uniform() < 0.5 { -1.0 } else { 1.0 };
+            (alpha, k)
+        } else if rng.uniform() < 0.25 {
+            // Into an inflection.
+            (-0.3 - 1.2 * rng.uniform(), 0.0)
+        } else {
+            let alpha = -1.5 + 4.0 * rng.uniform();
+            let mut ratio = log_uniform(rng, 1.5, 4.0);
+            if rng.uniform() < 0.5 {
+                ratio = 1.0 / ratio;
+            }
+            (alpha, (kappa * ratio).clamp(-0.04, 0.04))
+        };
+        let seg = LacSegment::new(p, theta, length, Some(alpha), kappa, end).ok()?;
+        p = seg.end();
+        theta = seg.theta1();
+        kappa = end;
+        chain.push(seg);
+    }
+    let turning: f64 = chain.iter().map(|s| (s.theta1() - s.theta0()).abs()).sum();
+    (turning <= MAX_TURNING).then_some(chain)
+}
+
+/// What went wrong, if anything, fitting `stroke` drawn from `truth`; the stroke itself, when
+/// something did.
+fn check(truth: &[LacSegment], stroke: &Stroke, units: Units) -> (Vec<String>, Option<String>) {
+    let wrong = problems(truth, stroke, units);
+    let json = (!wrong.is_empty())
+        .then(|| kansei::stroke::StrokeFile::new(units, vec![stroke.clone()]).to_json());
+    (wrong, json)
+}
+
+fn problems(truth: &[LacSegment], stroke: &Stroke, units: Units) -> Vec<String> {
+    let mut wrong = Vec::new();
+    let StrokeOutcome::Curves(curves) =
+        fit_with_noise(stroke, 0, units, &PipelineOptions::default())
+    else {
+        return vec!["no curves".into()];
+    };
+    let tolerance = curves[0].tolerance;
+    let chains: Vec<_> = curves.into_iter().filter_map(|c| c.chain).collect();
+    if chains.len() != 1 {
+        wrong.push(format!("{} pieces", chains.len()));
+    }
+    let n: usize = chains.iter().map(|c| c.segments.len()).sum();
+    if n > truth.len() {
+        wrong.push(format!("{n} segments for {}", truth.len()));
+    }
+    let profile = profile_error(&chains, truth);
+    if profile > 0.05 {
+        wrong.push(format!("profile {:.1} %", 100.0 * profile));
+    }
+    let off = distance_between(&chains, truth);
+    if off > tolerance {
+        wrong.push(format!("{:.2} tolerances off", off / tolerance));
+    }
+    if !chains.iter().all(|c| c.within_tolerance) {
+        wrong.push("samples outside".into());
+    }
+    wrong
+}
+
+fn describe(chain: &[LacSegment]) -> String {
+    chain
+        .iter()
+        .map(|s| {
+            format!(
+                "[L {:.0} α {:.2} κ {:.4}→{:.4}]",
+                s.length(),
+                s.alpha().unwrap_or(f64::NAN),
+                s.kappa0(),
+                s.kappa1()
+            )
+        })
+        .collect::<Vec<_>>()
+        .join(" ")
+}
+
+fn main() {
+    let args: Vec<String> = std::env::args().collect();
+    let cases: usize = args.get(1).and_then(|a| a.parse().ok()).unwrap_or(200);
+    let seed: u64 = args.get(2).and_then(|a| a.parse().ok()).unwrap_or(1);
+    let mut rng = Rng::new(seed);
+    let mut chains = Vec::new();
+    while chains.len() < cases {
+        if let Some(c) = random_chain(&mut rng) {
+            chains.push(c);
+        }
+    }
+    let kinds = ["pixels", "jitter 0.3 px + pixels", "tablet 0.02 mm"];
+    let dump = args.get(3).map(std::path::PathBuf::from);
+    let results: Vec<Vec<(Vec<String>, Option<String>)>> = std::thread::scope(|scope| {
+        let handles: Vec<_> = chains
+            .chunks(chains.len().div_ceil(2))
+            .enumerate()
+            .map(|(h, part)| {
+                scope.spawn(move || {
+                    part.iter()
+                        .enumerate()
+                        .map(|(i, truth)| {
+                            let k = (h * 100_000 + i) as u64;
+                            let total: f64 = truth.iter().map(|s| s.length()).sum();
+                            let n = (total / 0.9) as usize;
+                            let pixels =
+                                samples(truth, n, |p| Point::new(p.x.round(), p.y.round()));
+                            let mut r = Rng::new(1000 + k);
+                            let jitter = samples(truth, n, |p| {
+                                let q = p + Vec2::new(0.3 * r.normal(), 0.3 * r.normal());
+                                Point::new(q.x.round(), q.y.round())
+                            });
+                            let mm: Vec<LacSegment> = truth
+                                .iter()
+                                .map(|s| {
+                                    LacSegment::new(
+                                        Point::new(s.start().x * 0.25, s.start().y * 0.25),
+                                        s.theta0(),
+                                        s.length() * 0.25,
+                                        s.alpha(),
+                                        s.kappa0() / 0.25,
+                                        s.kappa1() / 0.25,
+                                    )
+                                    .expect("scaled segment")
+                                })
+                                .collect();
+                            let tablet = common::planted::jittered(&mm, n, 0.02, 5000 + k);
+                            vec![
+                                check(truth, &pixels, Units::Px),
+                                check(truth, &jitter, Units::Px),
+                                check(&mm, &tablet, Units::Mm),
+                            ]
+                        })
+                        .collect::<Vec<_>>()
+                })
+            })
+            .collect();
+        handles
+            .into_iter()
+            .flat_map(|h| h.join().expect("worker"))
+            .collect()
+    });
+    for (k, kind) in kinds.iter().enumerate() {
+        let failed: Vec<usize> = (0..cases)
+            .filter(|&i| !results[i][k].0.is_empty())
+            .collect();
+        println!("{kind}: {} of {cases} as planted", cases - failed.len());
+        for &i in &failed {
+            println!(
+                "  #{i} {}: {}",
+                describe(&chains[i]),
+                results[i][k].0.join(", ")
+            );
+            if let (Some(dir), Some(json)) = (&dump, &results[i][k].1) {
+                let path = dir.join(format!("{i}-{}.json", ["pixels", "jitter", "tablet"][k]));
+                if let Err(e) = std::fs::write(&path, json) {
+                    eprintln!("{}: {e}", path.display());
+                }
+            }
+        }
+    }
+}
