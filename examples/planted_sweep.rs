@@ -17,54 +17,11 @@
 mod common;
 
 use common::Rng;
-use common::planted::{distance_between, profile_error, samples};
+use common::planted::{distance_between, profile_error, random_chain, samples};
 use kansei::geom::{Point, Vec2};
 use kansei::lac::LacSegment;
 use kansei::pipeline::{PipelineOptions, StrokeOutcome, fit_with_noise};
 use kansei::stroke::{Stroke, Units};
-
-/// Largest total turning of a planted chain (radians): beyond about a turn a stroke comes near
-/// itself and "nearest point" comparisons stop meaning the same place.
-const MAX_TURNING: f64 = 5.0;
-
-/// A random chain in pixels: (segments, the parts for the report).
-fn random_chain(rng: &mut Rng) -> Option<Vec<LacSegment>> {
-    let m = 1 + (rng.uniform() * 3.0) as usize;
-    let log_uniform =
-        |rng: &mut Rng, a: f64, b: f64| (a.ln() + (b.ln() - a.ln()) * rng.uniform()).exp();
-    let mut kappa = log_uniform(rng, 0.003, 0.03) * if rng.uniform() < 0.5 { -1.0 } else { 1.0 };
-    let (mut p, mut theta) = (
-        Point::new(400.0, 300.0),
-        rng.uniform() * std::f64::consts::TAU,
-    );
-    let mut chain = Vec::new();
-    for _ in 0..m {
-        let length = 80.0 + 120.0 * rng.uniform();
-        let (alpha, end) = if kappa == 0.0 {
-            // Leaving an inflection: α < 0 to a curvature of either sign.
-            let alpha = -0.3 - 1.2 * rng.uniform();
-            let k = log_uniform(rng, 0.003, 0.03) * if rng.uniform() < 0.5 { -1.0 } else { 1.0 };
-            (alpha, k)
-        } else if rng.uniform() < 0.25 {
-            // Into an inflection.
-            (-0.3 - 1.2 * rng.uniform(), 0.0)
-        } else {
-            let alpha = -1.5 + 4.0 * rng.uniform();
-            let mut ratio = log_uniform(rng, 1.5, 4.0);
-            if rng.uniform() < 0.5 {
-                ratio = 1.0 / ratio;
-            }
-            (alpha, (kappa * ratio).clamp(-0.04, 0.04))
-        };
-        let seg = LacSegment::new(p, theta, length, Some(alpha), kappa, end).ok()?;
-        p = seg.end();
-        theta = seg.theta1();
-        kappa = end;
-        chain.push(seg);
-    }
-    let turning: f64 = chain.iter().map(|s| (s.theta1() - s.theta0()).abs()).sum();
-    (turning <= MAX_TURNING).then_some(chain)
-}
 
 /// What went wrong, if anything, fitting `stroke` drawn from `truth`; the stroke itself, when
 /// something did.

@@ -336,3 +336,181 @@ fn a_drawn_corner_is_a_corner_not_a_curl() {
         }
     }
 }
+
+/// Most tolerances a fitted chain may stray from the planted curve it was drawn from: the chain
+/// is within the tolerance of the samples, the samples within about the tolerance of the planted
+/// curve (the floor is the noise's expected largest excursion; an estimate of σ can fall a
+/// quarter short), and between samples 0.9 px apart a chain without loops cannot wander further.
+/// The largest seen over 600 random fits is 2.9; a loop between samples reached 255.
+const MAX_STRAY_TOLERANCES: f64 = 4.0;
+
+/// How far the chains' segments run beyond their samples: the largest ratio of a segment's length
+/// to the polyline through its samples and the sample on either side, plus the tolerance.
+fn loop_ratio(stroke: &Stroke, chains: &[Chain], tolerance: f64) -> f64 {
+    let points: Vec<Point> = stroke.samples.iter().map(|s| s.point()).collect();
+    chains
+        .iter()
+        .flat_map(|c| {
+            let (first, last) = (
+                c.segments[0].samples.0,
+                c.segments[c.segments.len() - 1].samples.1,
+            );
+            let points = &points;
+            c.segments.iter().map(move |s| {
+                let lo = s.samples.0.saturating_sub(1).max(first);
+                let hi = (s.samples.1 + 1).min(last);
+                let reach: f64 = points[lo..=hi.max(lo)]
+                    .windows(2)
+                    .map(|w| w[0].distance(w[1]))
+                    .sum();
+                s.segment.length() / (reach + tolerance)
+            })
+        })
+        .fold(0.0, f64::max)
+}
+
+#[test]
+fn random_planted_chains_are_followed_without_loops() {
+    // Chains no one here drew (the generator of `examples/planted_sweep.rs`), each on whole
+    // pixels, with 0.3 px of jitter then rounded, and a quarter of the size in millimetres with
+    // 0.02 mm of noise. Whatever segmentation the fit chooses, it stays on the drawn curve: every
+    // sample within the reported tolerance, no segment a loop between its samples, and the
+    // chain within a few tolerances of the planted curve.
+    let mut rng = Rng::new(101);
+    let mut cases = 0;
+    while cases < 30 {
+        let Some(truth) = common::planted::random_chain(&mut rng) else {
+            continue;
+        };
+        cases += 1;
+        let total: f64 = truth.iter().map(|s| s.length()).sum();
+        let n = (total / 0.9) as usize;
+        let pixels = samples(&truth, n, |p| Point::new(p.x.round(), p.y.round()));
+        let mut jitter_rng = Rng::new(1000 + cases as u64);
+        let jitter = samples(&truth, n, |p| {
+            let q = p + Vec2::new(0.3 * jitter_rng.normal(), 0.3 * jitter_rng.normal());
+            Point::new(q.x.round(), q.y.round())
+        });
+        let mm: Vec<LacSegment> = truth
+            .iter()
+            .map(|s| {
+                LacSegment::new(
+                    Point::new(s.start().x * 0.25, s.start().y * 0.25),
+                    s.theta0(),
+                    s.length() * 0.25,
+                    s.alpha(),
+                    s.kappa0() / 0.25,
+                    s.kappa1() / 0.25,
+                )
+                .expect("scaled segment")
+            })
+            .collect();
+        let tablet = jittered(&mm, n, 0.02, 5000 + cases as u64);
+        for (kind, stroke, planted, units) in [
+            ("pixels", &pixels, &truth, Units::Px),
+            ("jittered pixels", &jitter, &truth, Units::Px),
+            ("tablet", &tablet, &mm, Units::Mm),
+        ] {
+            let f = fit(stroke, units, Continuity::default());
+            let name = format!("case {cases}, {kind}");
+            assert!(f.chains.iter().all(|c| c.within_tolerance), "{name}");
+            let ratio = loop_ratio(stroke, &f.chains, f.tolerance);
+            assert!(
+                ratio <= kansei::chain::stray::LOOP_LENGTH_FACTOR,
+                "{name}: a segment {ratio} times the length of its samples' polyline"
+            );
+            let off = distance_between(&f.chains, planted);
+            assert!(
+                off <= MAX_STRAY_TOLERANCES * f.tolerance,
+                "{name}: {} tolerances from the planted curve",
+                off / f.tolerance
+            );
+        }
+    }
+}
+
+#[test]
+fn a_flat_point_drawn_with_a_tablet_stays_on_the_planted_curve() {
+    // The curvature falls to zero and rises again on the same side (a flat point, no
+    // inflection), then rises faster: three spirals of α < 0. With tablet noise the B-spline's
+    // curvature has one minimum there, and the span after it, which no single α joins, had
+    // been replaced by two arcs that the subdivisions then cut into a tangle (one of these 16
+    // draws: 29 segments, loops between samples, 547 tolerances off the planted curve; others
+    // 115 segments and curvatures up to 950 /mm). Now every draw stays within a tolerance of
+    // the planted curve, its curvature profile within 5 %. (The segment count is as planted in
+    // 9 of the 16, one or two more in the rest: the "no more than planted" is not met
+    // at flat points yet.)
+    for sign in [1.0, -1.0] {
+        let parts = [
+            (169.0, Some(-0.55), 0.0),
+            (183.0, Some(-1.08), sign * 0.0079),
+            (194.0, Some(-0.38), sign * 0.031),
+        ];
+        let t = truth(
+            &Case {
+                name: "flat point",
+                parts: parts.to_vec(),
+                kappa0: sign * 0.0046,
+                samples: 600,
+            },
+            Point::new(20.0, 30.0),
+            0.25,
+        );
+        for seed in 1..=8 {
+            let stroke = jittered(&t, 600, 0.02, seed);
+            let f = fit(&stroke, Units::Mm, Continuity::default());
+            let name = format!("sense {sign}, seed {seed}");
+            assert_eq!(f.chains.len(), 1, "{name}");
+            assert!(f.chains[0].within_tolerance, "{name}");
+            let ratio = loop_ratio(&stroke, &f.chains, f.tolerance);
+            assert!(
+                ratio <= kansei::chain::stray::LOOP_LENGTH_FACTOR,
+                "{name}: {ratio}"
+            );
+            let off = distance_between(&f.chains, &t);
+            assert!(
+                off <= f.tolerance,
+                "{name}: {off} off, tolerance {}",
+                f.tolerance
+            );
+            let profile = profile_error(&f.chains, &t);
+            assert!(profile <= 0.05, "{name}: profile {profile} off");
+        }
+    }
+}
+
+#[test]
+fn a_smooth_chain_that_loops_between_samples_is_not_the_answer() {
+    // A random planted chain (the sweep's case 148) on whole pixels: the smooth fit's cut
+    // rounds ended with two segments of 465 and 396 px over one sample, every sample within
+    // the tolerance. A chain no longer than its samples (the G1 chain here) is the answer.
+    let first = LacSegment::new(
+        Point::new(400.0, 300.0),
+        1.866_100_585_779_97,
+        119.683_704_608_604_2,
+        Some(-0.228_771_333_283_729_12),
+        0.009_669_661_048_120_523,
+        0.026_176_352_341_291_426,
+    )
+    .expect("planted");
+    let second = LacSegment::new(
+        first.end(),
+        first.theta1(),
+        198.124_424_334_242_18,
+        Some(2.242_902_695_826_830_8),
+        0.026_176_352_341_291_426,
+        0.010_039_692_206_710_433,
+    )
+    .expect("planted");
+    let t = [first, second];
+    let total: f64 = t.iter().map(|s| s.length()).sum();
+    let stroke = samples(&t, (total / 0.9) as usize, |p| {
+        Point::new(p.x.round(), p.y.round())
+    });
+    let f = fit(&stroke, Units::Px, Continuity::default());
+    let ratio = loop_ratio(&stroke, &f.chains, f.tolerance);
+    assert!(ratio <= kansei::chain::stray::LOOP_LENGTH_FACTOR, "{ratio}");
+    assert!(f.chains.iter().all(|c| c.within_tolerance));
+    let off = distance_between(&f.chains, &t);
+    assert!(off <= f.tolerance, "{off} off, tolerance {}", f.tolerance);
+}

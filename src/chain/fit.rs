@@ -5,7 +5,9 @@ use serde::{Deserialize, Serialize};
 use super::alpha_evidence::{
     ALPHA_DIFFERENCE_STEP, AlphaBound, AlphaSource, UNDETERMINED_ALPHA, alpha_uncertainty,
 };
-use super::refine::{CONVERGED_RMS, RefineOptions, STARTING_CONVERGED_RMS, refine};
+use super::refine::{
+    CONVERGED_RMS, MAX_JOINT_OFF_CURVE, RefineOptions, STARTING_CONVERGED_RMS, refine,
+};
 use super::smooth::{Continuity, SmoothInput, smooth_chain};
 use super::state::{Joint, SegmentKey, State};
 use crate::bspline::BSpline;
@@ -42,6 +44,16 @@ const REPAIR_PASSES_EXTRA: usize = 64;
 /// many tolerances ([`Fitter::split_on_curve`]): below that, the samples there lie within the
 /// tolerance of a line between the joints, and cutting cannot make a curve of them.
 const MIN_SPLIT_CHORD_FRACTION: f64 = 1.0;
+
+/// Fewest samples of a span no log-aesthetic segment joins for which [`Fitter::repair`] cuts
+/// the span on the B-spline before it tries the biarc. The biarc is the answer for a span whose
+/// few samples cannot tell a shape (a sharp turn between sparse mouse samples: the recorded
+/// fixtures' biarcs hold 0 to 3); for a span whose samples draw one, two arcs stand in for
+/// curvature that varies, and the next rounds cut and refit them again and again (a planted
+/// chain with a flat point, drawn with 0.02 mm of tablet noise: a span of 437 samples no
+/// single α joins became two arcs, and the subdivisions after it 115 segments, curvatures up to
+/// 950 /mm and loops between samples; cut on the B-spline, the three planted segments).
+const MIN_SAMPLES_BEFORE_BIARC: usize = 4;
 
 /// Joints closer than this fraction of the tolerance coincide: a segment between them has no
 /// length to speak of (and none that the data could resolve).
@@ -397,11 +409,14 @@ pub fn fit_chain(
         continuity: options.continuity,
     });
     // A smooth chain farther from its samples than the G1 chain it started from is not taken
-    // (the guarantee before the continuity).
+    // (the guarantee before the continuity), nor one that runs a loop between its samples where
+    // the G1 chain does not (see `super::stray`).
     Ok(last_resort(match smooth {
         Some(smooth)
-            if smooth.within_tolerance
-                || !chain.within_tolerance && smooth.max_deviation <= chain.max_deviation =>
+            if (smooth.within_tolerance
+                || !chain.within_tolerance && smooth.max_deviation <= chain.max_deviation)
+                && (!super::stray::loops(input, &smooth, tolerance)
+                    || super::stray::loops(input, &chain, tolerance)) =>
         {
             smooth
         }
@@ -955,7 +970,22 @@ impl<'a> Fitter<'a> {
             let unresolved = arcs.as_ref().is_ok_and(|[s0, s1]| {
                 !(within(s0, self.max_curvature) && within(s1, self.max_curvature))
             });
-            if (coincident || unresolved) && state.len() > 1 {
+            // A biarc between joints whose tangents turn against their chord can meet itself
+            // far away: two half circles whose joint lies across a loop (seen: joints 0.45 mm
+            // apart at a 0.1 mm tolerance; the arcs met 13 mm off the stroke, every sample
+            // still within the tolerance, and the next rounds cut such loops into more). A
+            // biarc that follows the data strays from the B-spline by a fraction of its chord;
+            // one whose joint is farther from it than the joints are apart, and beyond where a
+            // refinement may take a joint ([`MAX_JOINT_OFF_CURVE`]), says the joints are out
+            // of order along the data: as for arcs the data cannot resolve, one of them goes.
+            let astray = arcs.as_ref().is_ok_and(|[s0, _]| {
+                let off = self
+                    .pieces
+                    .project_local(s0.end(), 0.5 * (a.u + b.u))
+                    .distance;
+                off > MAX_JOINT_OFF_CURVE * self.tolerance && off > a.p.distance(b.p)
+            });
+            if (coincident || unresolved || astray) && state.len() > 1 {
                 // A segment of no length (or none the data resolve): drop it and one of its
                 // joints (the chain's last joint is kept: it is the piece's end). The segment
                 // after it is rebuilt from the surviving joint, so the chain stays G1.
@@ -973,7 +1003,18 @@ impl<'a> Fitter<'a> {
                 continue;
             }
             let [s0, s1] = match arcs {
-                Ok(arcs) if !(coincident || unresolved) => arcs,
+                Ok(arcs) if !(coincident || unresolved || astray) => {
+                    // Two arcs stand for the data's shape only where the samples cannot tell
+                    // one: where they can, the span is cut on the B-spline, and each half is a
+                    // log-aesthetic segment of its own samples (see
+                    // [`MIN_SAMPLES_BEFORE_BIARC`]).
+                    if state.samples[k].len() >= MIN_SAMPLES_BEFORE_BIARC
+                        && self.split_on_curve(state, searches, k)
+                    {
+                        continue;
+                    }
+                    arcs
+                }
                 // No biarc joins the data (tangents reversed along the chord, a piece that ends
                 // where it starts, which no single segment can join, or arcs tighter than the
                 // smallest radius in a piece of one segment, which nothing can be dropped

@@ -26,6 +26,7 @@ mod polyline;
 mod refine;
 pub mod smooth;
 mod state;
+pub mod stray;
 mod unhook;
 
 pub use alpha_evidence::{

@@ -117,7 +117,7 @@ const MAX_LENGTH_FACTOR: f64 = 10.0;
 /// B-spline and the chain missed its tolerance 14 times over. A joint on a chain within the
 /// tolerance of samples that lie within the tolerance of the B-spline is within about two
 /// tolerances of it; 4 leave room for a joint the chain pulls off a B-spline wobble.
-const MAX_JOINT_OFF_CURVE: f64 = 4.0;
+pub(crate) const MAX_JOINT_OFF_CURVE: f64 = 4.0;
 
 /// Whether no joint of `trial` is farther than [`MAX_JOINT_OFF_CURVE`] tolerances from the
 /// B-spline near its parameter, unless it already was in `current` and has not moved farther.

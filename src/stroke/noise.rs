@@ -158,11 +158,11 @@ pub fn noise_multiple(samples: usize) -> f64 {
     (2.0 * n.ln()).sqrt().max(NOISE_MULTIPLE)
 }
 
-/// Fewest reversals that show jitter on a grid: the coordinate that moves more turning back
-/// between consecutive distinct samples (each move at least as long along it as across it). Rounded noise-free planted
-/// curves (60 random chains sampled every 0.3, 0.9 and 2.7 px) show none; 0.3 px of jitter shows
-/// hundreds on dense strokes and a few on sparse ones (at 2.7 px between samples some show none,
-/// and only σ can tell).
+/// Fewest reversals that show jitter on a grid: the coordinate that moves more turning back between
+/// consecutive distinct samples (each move at least as long along it as across it). Rounded
+/// noise-free planted curves (60 random chains sampled every 0.3, 0.9 and 2.7 px) show none; 0.3 px
+/// of jitter shows hundreds on dense strokes and a few on sparse ones (at 2.7 px between samples
+/// some show none, and only σ can tell).
 pub const JITTER_REVERSALS: usize = 3;
 
 /// How many times a coordinate reverses its direction while it is the one moving more: for

@@ -7,6 +7,8 @@ use kansei::geom::Point;
 use kansei::lac::LacSegment;
 use kansei::stroke::{Sample, Stroke};
 
+use super::Rng;
+
 /// A chain laid out from `start` at angle 0: each part (length, α, κ at its end), the first
 /// starting at `kappa0`; consecutive parts share curvature (G2).
 pub fn planted_at(start: Point, kappa0: f64, parts: &[(f64, Option<f64>, f64)]) -> Vec<LacSegment> {
@@ -131,4 +133,51 @@ pub fn jittered(chain: &[LacSegment], n: usize, sigma: f64, seed: u64) -> Stroke
     samples(chain, n, |p| {
         p + kurbo::Vec2::new(sigma * rng.normal(), sigma * rng.normal())
     })
+}
+
+/// Largest total turning of a planted chain (radians): beyond about a turn a stroke comes near
+/// itself and "nearest point" comparisons stop meaning the same place.
+pub const MAX_TURNING: f64 = 5.0;
+
+/// A random planted chain in pixels, G2 throughout: one to three segments of 80 to 200 px, α
+/// uniform in [−1.5, 2.5], curvatures 0.003 to 0.03 /px changing 1.5 to 4 times per segment (at
+/// most 0.04 /px), a quarter of the segments running into a curvature zero (α < 0) and the one
+/// after it leaving it with either sign. `None` where the draw turns more than [`MAX_TURNING`]
+/// or no segment joins it.
+pub fn random_chain(rng: &mut Rng) -> Option<Vec<LacSegment>> {
+    let m = 1 + (rng.uniform() * 3.0) as usize;
+    let log_uniform =
+        |rng: &mut Rng, a: f64, b: f64| (a.ln() + (b.ln() - a.ln()) * rng.uniform()).exp();
+    let mut kappa = log_uniform(rng, 0.003, 0.03) * if rng.uniform() < 0.5 { -1.0 } else { 1.0 };
+    let (mut p, mut theta) = (
+        Point::new(400.0, 300.0),
+        rng.uniform() * std::f64::consts::TAU,
+    );
+    let mut chain = Vec::new();
+    for _ in 0..m {
+        let length = 80.0 + 120.0 * rng.uniform();
+        let (alpha, end) = if kappa == 0.0 {
+            // Leaving an inflection: α < 0 to a curvature of either sign.
+            let alpha = -0.3 - 1.2 * rng.uniform();
+            let k = log_uniform(rng, 0.003, 0.03) * if rng.uniform() < 0.5 { -1.0 } else { 1.0 };
+            (alpha, k)
+        } else if rng.uniform() < 0.25 {
+            // Into an inflection.
+            (-0.3 - 1.2 * rng.uniform(), 0.0)
+        } else {
+            let alpha = -1.5 + 4.0 * rng.uniform();
+            let mut ratio = log_uniform(rng, 1.5, 4.0);
+            if rng.uniform() < 0.5 {
+                ratio = 1.0 / ratio;
+            }
+            (alpha, (kappa * ratio).clamp(-0.04, 0.04))
+        };
+        let seg = LacSegment::new(p, theta, length, Some(alpha), kappa, end).ok()?;
+        p = seg.end();
+        theta = seg.theta1();
+        kappa = end;
+        chain.push(seg);
+    }
+    let turning: f64 = chain.iter().map(|s| (s.theta1() - s.theta0()).abs()).sum();
+    (turning <= MAX_TURNING).then_some(chain)
 }
