@@ -18,7 +18,7 @@ pub use error::StrokeError;
 pub use file::{FORMAT_NAME, FORMAT_VERSION, StrokeFile};
 pub use locate::{JsonPlace, place_at};
 pub use noise::{
-    GRID_DECORRELATION_STEPS, GRID_STAIRCASE_RATIO, JITTER_REVERSALS, NOISE_MULTIPLE, NoiseFloor,
-    WINDOW as NOISE_WINDOW, noise_multiple,
+    GRID_DECORRELATION_STEPS, GRID_STAIRCASE_RATIO, GRID_TRIM_STEPS, JITTER_REVERSALS,
+    NOISE_MULTIPLE, NoiseFloor, WINDOW as NOISE_WINDOW, noise_multiple,
 };
 pub use sample::{Sample, Stroke, Units};

@@ -18,7 +18,8 @@
 //!   these standardised residuals ([`NoiseFloor::sigma`]): the median absolute value (times
 //!   1.4826, the Gaussian's ratio) sets a cut of [`TRIM_SIGMAS`] of it, which keeps corners,
 //!   hooks and the windows that straddle them out, and the root mean square of what remains is
-//!   right for rounding noise too (whose median would overstate it by a quarter).
+//!   right for rounding noise too (whose median would overstate it by a quarter). On a grid the
+//!   cut is at least [`GRID_TRIM_STEPS`] steps: rounded jitter throws samples a whole step off.
 //!
 //! On a grid the local fits take samples a few steps apart ([`GRID_DECORRELATION_STEPS`]):
 //! rounding errors of neighbouring pixels are one staircase, not independent noise.
@@ -46,6 +47,14 @@ pub const WINDOW: usize = 5;
 /// Gaussian reaches it at 5 samples in 10⁴, while a window straddling a corner or a hook does at
 /// once.
 pub const TRIM_SIGMAS: f64 = 3.5;
+
+/// On a grid, residuals within this many grid steps are never trimmed as outliers. Jitter of a
+/// fraction of a step, rounded, leaves most samples of a curve that runs along the grid exactly
+/// on it and throws a few a whole step off: the median absolute residual is then near zero, the
+/// robust cut with it, and the steps the fit must still cover were dropped from σ (a line along
+/// the grid with 0.3 px of jitter read σ = 0.10 px, and came back as 49 segments at its 0.73 px
+/// floor). A corner or a hook, which trimming is for, is many steps off.
+pub const GRID_TRIM_STEPS: f64 = 1.5;
 
 /// The ratio of a Gaussian's standard deviation to its median absolute value.
 const MAD_TO_SIGMA: f64 = 1.4826;
@@ -122,8 +131,11 @@ impl NoiseFloor {
             // staircase of neighbouring pixels it is one pattern, which the local fits would
             // partly read as the curve and partly as extra noise (σ 1.7 times the grid's own
             // on a curve sampled every 0.27 px). Fit samples at least that far apart.
-            Some(q) => jitter_sigma(&thinned(&distinct, GRID_DECORRELATION_STEPS * q)),
-            None => jitter_sigma(&distinct),
+            Some(q) => jitter_sigma(
+                &thinned(&distinct, GRID_DECORRELATION_STEPS * q),
+                GRID_TRIM_STEPS * q,
+            ),
+            None => jitter_sigma(&distinct, 0.0),
         };
         let reversed = grid.is_some() && reversals(&distinct) >= JITTER_REVERSALS;
         let floor = floor_of(grid, sigma, distinct.len(), reversed);
@@ -224,22 +236,24 @@ fn grid_step(points: &[Point]) -> Option<f64> {
 
 /// The trimmed root mean square of the standardised normal residuals of the local quadratic
 /// fits (0 with too few samples).
-fn jitter_sigma(points: &[Point]) -> f64 {
+fn jitter_sigma(points: &[Point], least_cut: f64) -> f64 {
     let residuals: Vec<f64> = points
         .windows(WINDOW)
         .filter_map(standardised_residual)
         .collect();
-    trimmed_rms(residuals)
+    trimmed_rms(residuals, least_cut)
 }
 
-fn trimmed_rms(residuals: Vec<f64>) -> f64 {
+/// The root mean square of the residuals within [`TRIM_SIGMAS`] robust standard deviations, or
+/// within `least_cut` where that is wider.
+fn trimmed_rms(residuals: Vec<f64>, least_cut: f64) -> f64 {
     if residuals.len() < MIN_RESIDUALS {
         return 0.0;
     }
     let mut abs: Vec<f64> = residuals.iter().map(|r| r.abs()).collect();
     abs.sort_by(f64::total_cmp);
     let median = abs[abs.len() / 2];
-    let cut = TRIM_SIGMAS * MAD_TO_SIGMA * median;
+    let cut = (TRIM_SIGMAS * MAD_TO_SIGMA * median).max(least_cut);
     let kept: Vec<f64> = abs.into_iter().filter(|r| *r <= cut).collect();
     if kept.is_empty() {
         return 0.0;
