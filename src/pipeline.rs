@@ -648,7 +648,10 @@ fn fit_piece(
             last,
             source,
         })?;
-    let split = options.split.with_tolerance(tolerance);
+    let split = options.split.with_tolerance(tolerance).with_free_ends(
+        piece.start != PieceEnd::Corner,
+        piece.end != PieceEnd::Corner,
+    );
     let mut spans = split_spans(&bspline.curve.to_beziers(), &split).map_err(|source| {
         PipelineError::Split {
             stroke: index,

@@ -53,6 +53,15 @@ pub struct SplitOptions {
     /// Default `0` (test off: the split alone does not know the tolerance); the pipeline sets
     /// it to the B-spline's fitting tolerance. Must be finite and `≥ 0`.
     pub tolerance: f64,
+    /// Whether the curve's start and end are free ends of a stroke (not corners). Next to a free
+    /// end an inflection is also noise when the stretch from it to the end bends by less than
+    /// the tolerance (`|κ_end|·ℓ²/8 < tolerance`, `|κ|` being monotonic between them): the
+    /// stretch is straight as far as the samples tell, its sign is the noise's, and the end's
+    /// curvature is taken as zero (a curve drawn into a flat end, κ → 0, had an inflection found
+    /// a few samples before its end, and a tangle of segments after it). Default `(false,
+    /// false)`; the pipeline sets it from the piece's ends (a corner's curvature stays the
+    /// B-spline's).
+    pub free_ends: (bool, bool),
 }
 
 impl SplitOptions {
@@ -63,6 +72,7 @@ impl SplitOptions {
         straight_turning: 0.01,
         joint_tolerance: 1e-9,
         tolerance: 0.0,
+        free_ends: (false, false),
     };
 
     /// Largest accepted [`SplitOptions::joint_tolerance`]: a thousandth of the parameter range
@@ -96,6 +106,12 @@ impl SplitOptions {
     /// Sets [`SplitOptions::tolerance`].
     pub const fn with_tolerance(mut self, value: f64) -> Self {
         self.tolerance = value;
+        self
+    }
+
+    /// Sets [`SplitOptions::free_ends`].
+    pub const fn with_free_ends(mut self, start: bool, end: bool) -> Self {
+        self.free_ends = (start, end);
         self
     }
 
@@ -153,7 +169,8 @@ mod tests {
             .with_straight_relative(0.0)
             .with_straight_turning(0.5)
             .with_joint_tolerance(1e-6)
-            .with_tolerance(0.25);
+            .with_tolerance(0.25)
+            .with_free_ends(true, false);
         assert_eq!(
             O,
             SplitOptions {
@@ -162,6 +179,7 @@ mod tests {
                 straight_turning: 0.5,
                 joint_tolerance: 1e-6,
                 tolerance: 0.25,
+                free_ends: (true, false),
             }
         );
         assert_eq!(O.validate(), Ok(()));

@@ -36,19 +36,26 @@ pub(crate) struct Significance {
     pub floor: f64,
     /// [`SplitOptions::tolerance`](super::SplitOptions::tolerance); 0 disables the test.
     pub tolerance: f64,
+    /// [`SplitOptions::free_ends`](super::SplitOptions::free_ends).
+    pub free_ends: (bool, bool),
 }
 
 impl Significance {
-    /// Whether nodes `a` and `b` differ insignificantly.
-    pub(crate) fn insignificant(&self, a: &Node, b: &Node) -> bool {
+    /// Whether nodes `a` and `b` differ insignificantly; `end_inflection` when one of them is
+    /// an end of the curve and the other an inflection.
+    pub(crate) fn insignificant(&self, a: &Node, b: &Node, end_inflection: bool) -> bool {
         let (ka, kb) = (a.magnitude(), b.magnitude());
         let difference = (ka - kb).abs();
         if difference < (self.relative * ka.max(kb)).max(self.floor) {
             return true;
         }
         // Only a bump within one curvature sign: cancelling a pair that involves an inflection
-        // (κ = 0 exactly) would leave a span whose curvature changes sign.
-        let same_sign = a.kappa * b.kappa > 0.0;
+        // (κ = 0 exactly) would leave a span whose curvature changes sign. Except between an
+        // inflection and an end of the curve: |κ| is monotonic between them, so a stretch there
+        // that bends by less than the tolerance is straight as far as the samples can tell,
+        // and the sign it shows is the noise's (a curve drawn into a flat end, κ → 0, had an
+        // inflection found a few samples before its end and a tangle of segments fitted there).
+        let same_sign = a.kappa * b.kappa > 0.0 || end_inflection;
         let ell = (b.s - a.s).abs();
         same_sign && self.tolerance > 0.0 && difference * ell * ell / 8.0 < self.tolerance
     }
@@ -86,10 +93,19 @@ pub(crate) fn simplify(nodes: &mut Vec<Node>, significance: &Significance) {
         if last < 2 {
             return;
         }
-        // (difference, first index to remove, how many)
-        let mut best: Option<(f64, usize, usize)> = None;
+        // (difference, first index to remove, how many, the end whose curvature becomes 0)
+        let mut best: Option<(f64, usize, usize, Option<usize>)> = None;
         for i in 0..last {
-            if !significance.insignificant(&nodes[i], &nodes[i + 1]) {
+            // The pair's interior node, when the other is a free end of the curve.
+            let interior = if i == 0 && significance.free_ends.0 {
+                Some(&nodes[1])
+            } else if i + 1 == last && significance.free_ends.1 {
+                Some(&nodes[i])
+            } else {
+                None
+            };
+            let end_inflection = interior.is_some_and(|n| n.kappa == 0.0);
+            if !significance.insignificant(&nodes[i], &nodes[i + 1], end_inflection) {
                 continue;
             }
             let (a, b) = (nodes[i].magnitude(), nodes[i + 1].magnitude());
@@ -104,13 +120,20 @@ pub(crate) fn simplify(nodes: &mut Vec<Node>, significance: &Significance) {
             // Equal differences (a symmetric bump, up to rounding) go to the earlier pair, so
             // rounding never picks which one survives.
             let tie = PERSISTENCE_TIE * a.max(b);
-            if best.is_none_or(|(d, _, _)| difference < d - tie) {
-                best = Some((difference, removal.0, removal.1));
+            if best.is_none_or(|(d, _, _, _)| difference < d - tie) {
+                let end = end_inflection.then_some(if i == 0 { 0 } else { last });
+                best = Some((difference, removal.0, removal.1, end));
             }
         }
-        let Some((_, first, count)) = best else {
+        let Some((_, first, count, end)) = best else {
             return;
         };
+        // An end past a cancelled inflection is straight as far as the samples tell: its
+        // curvature is taken as zero, so that the span before it falls to zero there instead of
+        // turning back up to the noise's sign (which no single segment can follow).
+        if let Some(end) = end {
+            nodes[end].kappa = 0.0;
+        }
         nodes.drain(first..first + count);
     }
 }
@@ -157,6 +180,7 @@ mod tests {
             relative: 0.05,
             floor: 1e-3,
             tolerance: 0.0,
+            free_ends: (false, false),
         };
         // 1.0 → 2.0 (max) → 1.96 (min, 2 % below) → 1.99 (max) → 0.5: the 1.96/1.99 pair goes.
         let mut n = nodes(&[1.0, 2.0, 1.96, 1.99, 0.5]);
@@ -174,6 +198,7 @@ mod tests {
             relative: 0.05,
             floor: 1e-3,
             tolerance: 0.0,
+            free_ends: (false, false),
         };
         let mut n = nodes(&[1.0, 1.02, 3.0, 2.0]);
         simplify(&mut n, &sig);
@@ -186,6 +211,7 @@ mod tests {
             relative: 0.05,
             floor: 1e-2,
             tolerance: 0.0,
+            free_ends: (false, false),
         };
         // A near-straight stretch: inflections (0) and tiny lobes (±1e-3) between two real lobes.
         let mut n = nodes(&[0.2, 1.0, 0.0, -1e-3, 0.0, 2e-3, 0.0, -1e-3, 0.0, 1.5, 0.3]);
@@ -204,6 +230,7 @@ mod tests {
             relative: 0.05,
             floor: 0.0,
             tolerance: 0.0,
+            free_ends: (false, false),
         };
         let mut n = nodes(&[1.0, 5.0, 4.9, 5.05, 3.0, 3.1, 1.0]);
         simplify(&mut n, &sig);
@@ -235,6 +262,7 @@ mod tests {
                 relative: 0.05,
                 floor: 1e-3,
                 tolerance,
+                free_ends: (false, false),
             };
             let mut n = bump.to_vec();
             simplify(&mut n, &sig);

@@ -47,6 +47,7 @@ pub fn split_spans(pieces: &[ParamBez], options: &SplitOptions) -> Result<Spans,
             relative: options.extremum_relative,
             floor: straight,
             tolerance: options.tolerance,
+            free_ends: options.free_ends,
         },
     );
     Ok(assemble(pieces, &nodes, straight))
