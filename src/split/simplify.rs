@@ -9,7 +9,10 @@
 //! 2. **Cancel the least significant pair.** Among neighbouring pairs that are insignificant
 //!    (see [`Significance`]), take the one with the smallest `| |κ_a| − |κ_b| |` and remove it:
 //!    both nodes when both are interior (a max/min pair, a bump of `|κ|`), or only the interior
-//!    one when its partner is the start or end (a tiny bump at an end of the curve).
+//!    one when its partner is the start or end (a tiny bump at an end of the curve). An
+//!    inflection next to a free end of the stroke is such a bump too when the stretch beyond it
+//!    bends by less than the tolerance; the end's curvature is then taken as zero
+//!    ([`SplitOptions::free_ends`](super::SplitOptions::free_ends)).
 //!
 //! Taking the smallest difference first is the rule of topological persistence: a bump is only
 //! cancelled after every smaller bump inside it, so what remains between two surviving nodes
