@@ -17,8 +17,7 @@
 mod common;
 
 use common::Rng;
-use common::planted::{distance_between, profile_error, random_chain, samples};
-use kansei::geom::{Point, Vec2};
+use common::planted::{distance_between, drawn_three_ways, profile_error, random_chain};
 use kansei::lac::LacSegment;
 use kansei::pipeline::{PipelineOptions, StrokeOutcome, fit_with_noise};
 use kansei::stroke::{Stroke, Units};
@@ -101,34 +100,11 @@ fn main() {
                         .enumerate()
                         .map(|(i, truth)| {
                             let k = (h * 100_000 + i) as u64;
-                            let total: f64 = truth.iter().map(|s| s.length()).sum();
-                            let n = (total / 0.9) as usize;
-                            let pixels =
-                                samples(truth, n, |p| Point::new(p.x.round(), p.y.round()));
-                            let mut r = Rng::new(1000 + k);
-                            let jitter = samples(truth, n, |p| {
-                                let q = p + Vec2::new(0.3 * r.normal(), 0.3 * r.normal());
-                                Point::new(q.x.round(), q.y.round())
-                            });
-                            let mm: Vec<LacSegment> = truth
-                                .iter()
-                                .map(|s| {
-                                    LacSegment::new(
-                                        Point::new(s.start().x * 0.25, s.start().y * 0.25),
-                                        s.theta0(),
-                                        s.length() * 0.25,
-                                        s.alpha(),
-                                        s.kappa0() / 0.25,
-                                        s.kappa1() / 0.25,
-                                    )
-                                    .expect("scaled segment")
-                                })
-                                .collect();
-                            let tablet = common::planted::jittered(&mm, n, 0.02, 5000 + k);
+                            let d = drawn_three_ways(truth, k);
                             vec![
-                                check(truth, &pixels, Units::Px),
-                                check(truth, &jitter, Units::Px),
-                                check(&mm, &tablet, Units::Mm),
+                                check(truth, &d.pixels, Units::Px),
+                                check(truth, &d.jittered, Units::Px),
+                                check(&d.mm, &d.tablet, Units::Mm),
                             ]
                         })
                         .collect::<Vec<_>>()

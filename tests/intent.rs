@@ -383,33 +383,11 @@ fn random_planted_chains_are_followed_without_loops() {
             continue;
         };
         cases += 1;
-        let total: f64 = truth.iter().map(|s| s.length()).sum();
-        let n = (total / 0.9) as usize;
-        let pixels = samples(&truth, n, |p| Point::new(p.x.round(), p.y.round()));
-        let mut jitter_rng = Rng::new(1000 + cases as u64);
-        let jitter = samples(&truth, n, |p| {
-            let q = p + Vec2::new(0.3 * jitter_rng.normal(), 0.3 * jitter_rng.normal());
-            Point::new(q.x.round(), q.y.round())
-        });
-        let mm: Vec<LacSegment> = truth
-            .iter()
-            .map(|s| {
-                LacSegment::new(
-                    Point::new(s.start().x * 0.25, s.start().y * 0.25),
-                    s.theta0(),
-                    s.length() * 0.25,
-                    s.alpha(),
-                    s.kappa0() / 0.25,
-                    s.kappa1() / 0.25,
-                )
-                .expect("scaled segment")
-            })
-            .collect();
-        let tablet = jittered(&mm, n, 0.02, 5000 + cases as u64);
+        let d = common::planted::drawn_three_ways(&truth, cases as u64);
         for (kind, stroke, planted, units) in [
-            ("pixels", &pixels, &truth, Units::Px),
-            ("jittered pixels", &jitter, &truth, Units::Px),
-            ("tablet", &tablet, &mm, Units::Mm),
+            ("pixels", &d.pixels, &truth, Units::Px),
+            ("jittered pixels", &d.jittered, &truth, Units::Px),
+            ("tablet", &d.tablet, &d.mm, Units::Mm),
         ] {
             let f = fit(stroke, units, Continuity::default());
             let name = format!("case {cases}, {kind}");

@@ -181,3 +181,47 @@ pub fn random_chain(rng: &mut Rng) -> Option<Vec<LacSegment>> {
     let turning: f64 = chain.iter().map(|s| (s.theta1() - s.theta0()).abs()).sum();
     (turning <= MAX_TURNING).then_some(chain)
 }
+
+/// A planted chain drawn the three ways the random sweep draws it, a sample every 0.9 px of
+/// curve: on whole pixels (a mouse), with 0.3 px of jitter then rounded (a shaky mouse, jitter
+/// seeded with `1000 + seed`), and a quarter of the size in millimetres with 0.02 mm of noise
+/// (a tablet, seeded with `5000 + seed`; `mm` is the chain at that size).
+pub struct Drawn {
+    pub pixels: Stroke,
+    pub jittered: Stroke,
+    pub mm: Vec<LacSegment>,
+    pub tablet: Stroke,
+}
+
+/// [`Drawn`] for `truth` (in pixels).
+pub fn drawn_three_ways(truth: &[LacSegment], seed: u64) -> Drawn {
+    let total: f64 = truth.iter().map(|s| s.length()).sum();
+    let n = (total / 0.9) as usize;
+    let pixels = samples(truth, n, |p| Point::new(p.x.round(), p.y.round()));
+    let mut rng = Rng::new(1000 + seed);
+    let jitter = samples(truth, n, |p| {
+        let q = p + kurbo::Vec2::new(0.3 * rng.normal(), 0.3 * rng.normal());
+        Point::new(q.x.round(), q.y.round())
+    });
+    let mm: Vec<LacSegment> = truth
+        .iter()
+        .map(|s| {
+            LacSegment::new(
+                Point::new(s.start().x * 0.25, s.start().y * 0.25),
+                s.theta0(),
+                s.length() * 0.25,
+                s.alpha(),
+                s.kappa0() / 0.25,
+                s.kappa1() / 0.25,
+            )
+            .expect("scaled segment")
+        })
+        .collect();
+    let tablet = jittered(&mm, n, 0.02, 5000 + seed);
+    Drawn {
+        pixels,
+        jittered: jitter,
+        mm,
+        tablet,
+    }
+}
