@@ -172,3 +172,25 @@ fn jitter_along_the_grid_is_not_trimmed_away() {
         );
     }
 }
+
+#[test]
+fn jitter_on_a_pixel_grid_is_measured_from_every_sample() {
+    // σ across the curve of 0.3 px of jitter then rounding is √(0.3² + 1/12) = 0.42 px. The
+    // local fits take samples two pixels apart (rounding is one staircase between neighbours);
+    // fitting every such interleaved run, not just one, uses every sample. What matters is the
+    // low side: a σ read short sets the floor below the noise's excursions and the fit chases
+    // them (one run alone read as little as 0.30 px here, five of 24 draws more than a sixth
+    // short). On strokes of 120 samples (a 108 px stretch of the arc), none of 24 draws is read
+    // more than a tenth short, nor more than a third over.
+    let true_sigma = (0.09f64 + 1.0 / 12.0).sqrt();
+    let estimates: Vec<f64> = (1..=24)
+        .map(|seed| NoiseFloor::estimate(&shaky(0.9, 0.3, 100 + seed).0[..120]).sigma)
+        .collect();
+    for (seed, sigma) in estimates.iter().enumerate() {
+        let ratio = sigma / true_sigma;
+        assert!(
+            (0.9..=4.0 / 3.0).contains(&ratio),
+            "draw {seed}: σ {sigma} for {true_sigma}: {estimates:?}"
+        );
+    }
+}
