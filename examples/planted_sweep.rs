@@ -17,7 +17,9 @@
 mod common;
 
 use common::Rng;
-use common::planted::{distance_between, drawn_three_ways, profile_error, random_chain};
+use common::planted::{
+    distance_between, distance_to, drawn_three_ways, profile_error, random_chain, segments,
+};
 use kansei::lac::LacSegment;
 use kansei::pipeline::{PipelineOptions, StrokeOutcome, fit_with_noise};
 use kansei::stroke::{Stroke, Units};
@@ -58,7 +60,38 @@ fn problems(truth: &[LacSegment], stroke: &Stroke, units: Units) -> Vec<String> 
     if !chains.iter().all(|c| c.within_tolerance) {
         wrong.push("samples outside".into());
     }
+    if !wrong.is_empty() {
+        // Is the planted answer within reach of the samples? The planted curve's largest and rms
+        // distance to them beside the fit's: where the fit's rms is below the planted curve's,
+        // the samples favour the fit and the profile's miss is the data's, not the fitter's;
+        // where the planted curve holds every sample within the tolerance, a chain with the
+        // planted count exists and more segments are the fitter's miss.
+        let fitted = segments(&chains);
+        let (t_max, t_rms) = spread(stroke, |q| distance_to(truth, q));
+        let (_, f_rms) = spread(stroke, |q| distance_to(&fitted, q));
+        wrong.push(format!(
+            "[planted max {:.2} rms {:.3} tol, fit rms {:.3} tol: {}]",
+            t_max / tolerance,
+            t_rms / tolerance,
+            f_rms / tolerance,
+            if t_max > tolerance {
+                "planted beyond tolerance"
+            } else if f_rms < t_rms {
+                "data-limited"
+            } else {
+                "fitter-limited"
+            }
+        ));
+    }
     wrong
+}
+
+/// The largest and the rms of `distance` over the stroke's samples.
+fn spread(stroke: &Stroke, distance: impl Fn(kurbo::Point) -> f64) -> (f64, f64) {
+    let d: Vec<f64> = stroke.points().into_iter().map(distance).collect();
+    let max = d.iter().copied().fold(0.0, f64::max);
+    let rms = (d.iter().map(|x| x * x).sum::<f64>() / d.len().max(1) as f64).sqrt();
+    (max, rms)
 }
 
 fn describe(chain: &[LacSegment]) -> String {

@@ -86,7 +86,7 @@ pub(super) const LAWSON_FLOOR: f64 = 0.05;
 /// iteration): each round multiplies every sample's weight by its distance (relative to the
 /// largest, at least [`LAWSON_FLOOR`]) and solves again from the last answer, which moves the
 /// chain towards the minimax fit of the same segments. The first round whose largest distance
-/// is within the tolerance is returned with its assignment; `None` if none is within
+/// is within the tolerance is returned with its assignment and unknowns; `None` if none is within
 /// [`MINIMAX_ROUNDS`]. The solver's weights are left uniform.
 pub(super) fn minimax(
     solver: &mut Solver,
@@ -94,7 +94,7 @@ pub(super) fn minimax(
     x: &Params,
     assign: &[Vec<usize>],
     evaluation: &Evaluation,
-) -> Option<(Evaluation, Vec<Vec<usize>>)> {
+) -> Option<(Evaluation, Vec<Vec<usize>>, Params)> {
     let (mut x, mut assign) = (x.clone(), assign.to_vec());
     solver.weights = vec![1.0; solver.points.len()];
     solver.minimax = true;
@@ -124,7 +124,7 @@ pub(super) fn minimax(
             break;
         };
         if largest_distance(&next) <= solver.tolerance {
-            found = Some((next, assign));
+            found = Some((next, assign, x));
             break;
         }
         last = Some(next);

@@ -647,12 +647,15 @@ fn smooth_from(
         };
         if worst <= smooth.tolerance {
             if let Some(chain) = held(&evaluation, &assign, &own) {
-                return Ok(chain);
+                return Ok(
+                    fewer_joints(smooth, &mut solver, &layout, &x, &assign, &evaluation)
+                        .unwrap_or(chain),
+                );
             }
         } else if worst <= MINIMAX_REACH * smooth.tolerance
             // A near miss is first fitted for its largest distance rather than cut (see
             // [`MINIMAX_ROUNDS`]).
-            && let Some((evaluation, assign)) =
+            && let Some((evaluation, assign, _)) =
                 minimax(&mut solver, &layout, &x, &assign, &evaluation)
             && let Some(chain) = held(&evaluation, &assign, &distances(&evaluation))
         {
@@ -691,6 +694,79 @@ fn smooth_from(
         }
     }
     Err(on_bound(&layout, &x, &chain.segments, max_log_kappa))
+}
+
+/// The solved chain with fewer joints, where one holds the tolerance: the fewest segments in
+/// the continuity mode, which the G1 chain that starts the fit does not decide (its segments
+/// are fitted to the samples' positions and tangents one by one). A joint can go where the
+/// curvature runs monotonically through it (one log-aesthetic segment can then span both
+/// neighbours; at a curvature extremum none can), tried in the order of the two sides' α
+/// difference (a straight log curvature graph through the joint first). Each removal is solved
+/// afresh from the joined chain (a near miss refitted towards its minimax fit, as the cut rounds
+/// do) and kept where every sample is within the tolerance; `None`
+/// where no joint can go.
+fn fewer_joints(
+    smooth: &SmoothInput,
+    solver: &mut Solver,
+    layout: &Layout,
+    x: &Params,
+    assign: &[Vec<usize>],
+    evaluation: &Evaluation,
+) -> Option<Chain> {
+    let points = smooth.input.points;
+    let (mut layout, mut x, mut assign) = (layout.clone(), x.clone(), assign.to_vec());
+    let mut segments = evaluation.segments.clone();
+    let mut best = None;
+    'fewer: loop {
+        let n = layout.n();
+        let mut joints: Vec<(f64, usize)> = (1..n)
+            .filter(|&j| {
+                let (a, m, b) = (
+                    layout.kappa(&x, j - 1),
+                    layout.kappa(&x, j),
+                    layout.kappa(&x, j + 1),
+                );
+                let sign = layout.sigma[j];
+                sign != 0.0
+                    && layout.sigma[j - 1] != -sign
+                    && layout.sigma[j + 1] != -sign
+                    && (m - a) * (b - m) >= 0.0
+            })
+            .map(|j| ((x.alpha[j - 1] - x.alpha[j]).abs(), j))
+            .collect();
+        joints.sort_by(|p, q| p.0.total_cmp(&q.0));
+        for (_, j) in joints {
+            let (mut l, mut y, mut a) = (layout.clone(), x.clone(), assign.clone());
+            if join_at(smooth.alpha, &mut l, &mut y, &mut a, &segments, j).is_none() {
+                continue;
+            }
+            l.clamp(&mut y, solver.log_kappa);
+            let Some(e) = solve(solver, &l, &mut y, &mut a, None) else {
+                continue;
+            };
+            let worst = worst_sample(&distances(&e)).0;
+            let e = if worst <= smooth.tolerance {
+                e
+            } else if worst <= MINIMAX_REACH * smooth.tolerance
+                && let Some((e, m, z)) = minimax(solver, &l, &y, &a, &e)
+            {
+                (a, y) = (m, z);
+                e
+            } else {
+                continue;
+            };
+            let own = distances(&e);
+            let nearest = nearest_deviation(points, &e.segments, &a, &own, smooth.chord_error);
+            if nearest > smooth.tolerance {
+                continue;
+            }
+            best = Some(finish(smooth, &l, &e, &a, nearest));
+            (layout, x, assign, segments) = (l, y, a, e.segments);
+            continue 'fewer;
+        }
+        break;
+    }
+    best
 }
 
 /// Relative margin within which a joint's log-curvature counts as on its upper bound.

@@ -371,6 +371,42 @@ pub(super) fn split_at(
     assign.insert(k + 1, second);
 }
 
+/// Joins segments j − 1 and j of a solved chain into one (joint j goes): the joined segment
+/// runs between the outer joints' curvatures over both lengths, with the α that keeps the two
+/// segments' turning (`segments` the solved chain), and holds both segments' samples. `None`
+/// where the choice of α cannot hold the joined segment's ends (a zero end without a negative α).
+pub(super) fn join_at(
+    choice: AlphaChoice,
+    layout: &mut Layout,
+    x: &mut Params,
+    assign: &mut Vec<Vec<usize>>,
+    segments: &[LacSegment],
+    j: usize,
+) -> Option<()> {
+    let (a, b) = (segments.get(j - 1)?, segments.get(j)?);
+    let turning = (a.theta1() - a.theta0()) + (b.theta1() - b.theta0());
+    x.pose.remove(j);
+    layout.sigma.remove(j);
+    x.u.remove(j);
+    x.v[j - 1] = (a.length() + b.length()).ln();
+    x.v.remove(j);
+    x.alpha.remove(j);
+    layout.alpha_bounds.remove(j);
+    layout.max_length[j - 1] += layout.max_length[j];
+    layout.max_length.remove(j);
+    layout.max_turning[j - 1] += layout.max_turning[j];
+    layout.max_turning.remove(j);
+    layout.kinds.remove(j);
+    layout.origin.remove(j);
+    let moved = assign.remove(j);
+    assign[j - 1].extend(moved);
+    set_alpha_bounds(choice, layout, x, j - 1)?;
+    if let Some(bounds) = layout.alpha_bounds[j - 1] {
+        x.alpha[j - 1] = alpha_for_turning(layout, x, j - 1, turning, bounds);
+    }
+    Some(())
+}
+
 /// Cuts segment k of the solved chain at its middle. A line (no curvature at its middle to give
 /// the new joint, its ends held at κ = 0 by its neighbours) that misses the tolerance must bend:
 /// the new joint bends towards its farthest sample, with the curvature of the arc through the
