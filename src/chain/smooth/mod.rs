@@ -703,8 +703,10 @@ fn smooth_from(
 /// neighbours; at a curvature extremum none can), tried in the order of the two sides' α
 /// difference (a straight log curvature graph through the joint first). Each removal is solved
 /// afresh from the joined chain (a near miss refitted towards its minimax fit, as the cut rounds
-/// do) and kept where every sample is within the tolerance; `None`
-/// where no joint can go.
+/// do) and kept where every sample is within the tolerance. A joint that could not go is tried
+/// again only after a removal next to it (a removal reshapes its neighbourhood; elsewhere the
+/// chain moves little), so a part of n segments costs about n solves, not n per removal.
+/// `None` where no joint can go.
 fn fewer_joints(
     smooth: &SmoothInput,
     solver: &mut Solver,
@@ -717,9 +719,13 @@ fn fewer_joints(
     let (mut layout, mut x, mut assign) = (layout.clone(), x.clone(), assign.to_vec());
     let mut segments = evaluation.segments.clone();
     let mut best = None;
+    // Per joint: tried and kept. A removal changes the chain near it only, so a joint that
+    // could not go is tried again only once a neighbouring segment has changed.
+    let mut failed = vec![false; layout.n() + 1];
     'fewer: loop {
         let n = layout.n();
         let mut joints: Vec<(f64, usize)> = (1..n)
+            .filter(|&j| !failed[j])
             .filter(|&j| {
                 let (a, m, b) = (
                     layout.kappa(&x, j - 1),
@@ -736,6 +742,7 @@ fn fewer_joints(
             .collect();
         joints.sort_by(|p, q| p.0.total_cmp(&q.0));
         for (_, j) in joints {
+            failed[j] = true;
             let (mut l, mut y, mut a) = (layout.clone(), x.clone(), assign.clone());
             if join_at(smooth.alpha, &mut l, &mut y, &mut a, &segments, j).is_none() {
                 continue;
@@ -762,6 +769,11 @@ fn fewer_joints(
             }
             best = Some(finish(smooth, &l, &e, &a, nearest));
             (layout, x, assign, segments) = (l, y, a, e.segments);
+            failed.remove(j);
+            failed[j - 1] = false;
+            if let Some(f) = failed.get_mut(j) {
+                *f = false;
+            }
             continue 'fewer;
         }
         break;
