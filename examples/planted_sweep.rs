@@ -18,7 +18,7 @@ mod common;
 
 use common::Rng;
 use common::planted::{
-    distance_between, distance_to, drawn_three_ways, profile_error, random_chain, segments,
+    distance_between, distances_to, drawn_three_ways, profile_error, random_chain, segments,
 };
 use kansei::lac::LacSegment;
 use kansei::pipeline::{PipelineOptions, StrokeOutcome, fit_with_noise};
@@ -67,8 +67,8 @@ fn problems(truth: &[LacSegment], stroke: &Stroke, units: Units) -> Vec<String> 
         // where the planted curve holds every sample within the tolerance, a chain with the
         // planted count exists and more segments are the fitter's miss.
         let fitted = segments(&chains);
-        let (t_max, t_rms) = spread(stroke, |q| distance_to(truth, q));
-        let (_, f_rms) = spread(stroke, |q| distance_to(&fitted, q));
+        let (t_max, t_rms) = spread(&distances_to(truth, stroke.points()));
+        let (_, f_rms) = spread(&distances_to(&fitted, stroke.points()));
         wrong.push(format!(
             "[planted max {:.2} rms {:.3} tol, fit rms {:.3} tol: {}]",
             t_max / tolerance,
@@ -86,9 +86,8 @@ fn problems(truth: &[LacSegment], stroke: &Stroke, units: Units) -> Vec<String> 
     wrong
 }
 
-/// The largest and the rms of `distance` over the stroke's samples.
-fn spread(stroke: &Stroke, distance: impl Fn(kurbo::Point) -> f64) -> (f64, f64) {
-    let d: Vec<f64> = stroke.points().into_iter().map(distance).collect();
+/// The largest and the rms of distances.
+fn spread(d: &[f64]) -> (f64, f64) {
     let max = d.iter().copied().fold(0.0, f64::max);
     let rms = (d.iter().map(|x| x * x).sum::<f64>() / d.len().max(1) as f64).sqrt();
     (max, rms)

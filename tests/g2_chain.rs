@@ -7,7 +7,7 @@
 
 mod common;
 
-use common::planted::{distance_to, jittered, planted, samples};
+use common::planted::{distances_to, jittered, planted, samples};
 use kansei::chain::{Chain, Continuity};
 use kansei::geom::{Point, Vec2};
 use kansei::lac::LacSegment;
@@ -47,12 +47,11 @@ fn largest_jump(chain: &Chain) -> f64 {
 
 /// The fitted chain's points against the planted chain: the largest distance.
 fn distance_from_planted(chain: &Chain, truth: &[LacSegment]) -> f64 {
-    chain
+    let points = chain
         .segments
         .iter()
-        .flat_map(|s| s.segment.samples(1.0).map(|p| p.point).collect::<Vec<_>>())
-        .map(|p| distance_to(truth, p))
-        .fold(0.0, f64::max)
+        .flat_map(|s| s.segment.samples(1.0).map(|p| p.point).collect::<Vec<_>>());
+    distances_to(truth, points).into_iter().fold(0.0, f64::max)
 }
 
 fn check(name: &str, truth: &[LacSegment], stroke: &Stroke, tolerance: f64, near: f64) {

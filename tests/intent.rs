@@ -529,32 +529,34 @@ fn a_joint_the_smooth_chain_can_do_without_goes() {
     // 0.02 mm of noise, several draws each: no more segments than planted, on the planted
     // curve, curvature-continuous. (The curvature profile is what the other tests check; here
     // a draw can leave it 5.5 % off with the planted count.)
+    let pair = |name, kappa0, parts: [(f64, Option<f64>, f64); 2]| Case {
+        name,
+        kappa0,
+        // A sample every 0.9 px of curve, as the random sweep draws.
+        samples: (parts.iter().map(|p| p.0).sum::<f64>() / 0.9) as usize,
+        parts: parts.to_vec(),
+    };
     let cases = [
-        (
+        pair(
             "S through an inflection",
             -0.0199,
             [(154.0, Some(-0.52), 0.0), (181.0, Some(-1.16), 0.0102)],
         ),
-        (
+        pair(
             "a flat point",
             0.0237,
             [(93.0, Some(-1.10), 0.0), (149.0, Some(-0.60), 0.0264)],
         ),
-        (
+        pair(
             "C rising twice",
             0.0041,
             [(104.0, Some(0.92), 0.0143), (158.0, Some(0.96), 0.0248)],
         ),
     ];
-    for (name, kappa0, parts) in cases {
-        let scaled: Vec<_> = parts
-            .iter()
-            .map(|&(l, a, k)| (0.25 * l, a, k / 0.25))
-            .collect();
-        let t = planted_at(Point::new(20.0, 30.0), kappa0 / 0.25, &scaled);
-        let length: f64 = parts.iter().map(|p| p.0).sum();
+    for case in &cases {
+        let (name, t) = (case.name, truth(case, Point::new(20.0, 30.0), 0.25));
         for seed in 0..6 {
-            let stroke = jittered(&t, (length / 0.9) as usize, 0.02, 70 + seed);
+            let stroke = jittered(&t, case.samples, 0.02, 70 + seed);
             let f = fit(&stroke, Units::Mm, Continuity::G2);
             let n: usize = f.chains.iter().map(|c| c.segments.len()).sum();
             assert!(

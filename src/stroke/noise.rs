@@ -131,7 +131,6 @@ impl NoiseFloor {
             }
         }
         let grid = grid_step(&distinct);
-        let reversed = grid.is_some() && reversals(&distinct) >= JITTER_REVERSALS;
         let sigma = match grid {
             // Rounding is independent only between samples a few steps apart: along a
             // staircase of neighbouring pixels it is one pattern, which the local fits would
@@ -143,6 +142,7 @@ impl NoiseFloor {
             ),
             None => jitter_sigma(std::slice::from_ref(&distinct), 0.0),
         };
+        let reversed = grid.is_some() && reversals(&distinct) >= JITTER_REVERSALS;
         let floor = floor_of(grid, sigma, distinct.len(), reversed);
         NoiseFloor { grid, sigma, floor }
     }

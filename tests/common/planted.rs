@@ -81,10 +81,14 @@ fn nearest(polyline: &[(Point, f64)], q: Point) -> (f64, usize) {
     best
 }
 
-/// Distance from `q` to the planted chain (a polyline every 0.05 of arc length: its chord error
-/// at the curvatures planted here is below 1e-4).
-pub fn distance_to(truth: &[LacSegment], q: Point) -> f64 {
-    nearest(&dense(truth.iter().copied(), 0.05), q).0
+/// Distance from each of `points` to the planted chain (a polyline every 0.05 of arc length,
+/// made once: its chord error at the curvatures planted here is below 1e-4).
+pub fn distances_to(truth: &[LacSegment], points: impl IntoIterator<Item = Point>) -> Vec<f64> {
+    let polyline = dense(truth.iter().copied(), 0.05);
+    points
+        .into_iter()
+        .map(|q| nearest(&polyline, q).0)
+        .collect()
 }
 
 /// The fitted chains' segments.
