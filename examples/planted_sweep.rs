@@ -70,7 +70,7 @@ fn problems(truth: &[LacSegment], stroke: &Stroke, units: Units) -> Vec<String> 
         let (t_max, t_rms) = spread(&distances_to(truth, stroke.points()));
         let (_, f_rms) = spread(&distances_to(&fitted, stroke.points()));
         wrong.push(format!(
-            "[planted max {:.2} rms {:.3} tol, fit rms {:.3} tol: {}]",
+            "[{n} segments; planted max {:.2} rms {:.3} tol, fit rms {:.3} tol: {}]",
             t_max / tolerance,
             t_rms / tolerance,
             f_rms / tolerance,

@@ -7,7 +7,9 @@
 mod common;
 
 use common::Rng;
-use common::planted::{distance_between, jittered, planted_at, profile_error, samples};
+use common::planted::{
+    distance_between, distances_to, jittered, planted_at, profile_error, samples, segments,
+};
 use kansei::chain::{Chain, Continuity};
 use kansei::geom::{Point, Vec2};
 use kansei::lac::LacSegment;
@@ -573,4 +575,46 @@ fn a_joint_the_smooth_chain_can_do_without_goes() {
             );
         }
     }
+}
+
+#[test]
+fn a_chain_that_holds_the_tolerance_ends_at_its_least_squares_minimum() {
+    // A planted pair from the random sweep (its tablet case 11) whose smooth fit held the tolerance with the planted
+    // count but stopped short of the samples' least-squares chain: the solve that finds a chain
+    // within the tolerance stops once a step gains little, and the cuts, minimax rounds and
+    // joint removals before it aim at the tolerance, not at the lowest deviation. Drawn a
+    // quarter of the size in millimetres with 0.02 mm of noise, four times. Where the fit has
+    // the planted count, the planted chain is one of its candidates: the fit's rms distance to
+    // the samples may exceed the planted curve's by at most 3 % (the polish's stop). Before the
+    // polish these draws ended 13 % to 99 % above it. (Other sweep cases end in another local
+    // minimum, which a polish cannot leave: a C easing twice at α 1.7 whose G1 chain splits
+    // it in the middle and ends in a spiral of α −1 into κ ≈ 0.)
+    let parts = [(119.0, Some(-0.44), 0.0), (121.0, Some(-1.41), -0.0185)];
+    let case = Case {
+        name: "into an inflection, then a tightening spiral",
+        kappa0: -0.0080,
+        // A sample every 0.9 px of curve, as the random sweep draws.
+        samples: (parts.iter().map(|p| p.0).sum::<f64>() / 0.9) as usize,
+        parts: parts.to_vec(),
+    };
+    let rms = |d: Vec<f64>| (d.iter().map(|x| x * x).sum::<f64>() / d.len() as f64).sqrt();
+    let (name, t) = (case.name, truth(&case, Point::new(20.0, 30.0), 0.25));
+    let mut compared = 0;
+    for seed in 0..4 {
+        let stroke = jittered(&t, case.samples, 0.02, 90 + seed);
+        let f = fit(&stroke, Units::Mm, Continuity::G2);
+        assert!(f.chains.iter().all(|c| c.within_tolerance), "{name}");
+        let n: usize = f.chains.iter().map(|c| c.segments.len()).sum();
+        if f.chains.len() != 1 || n != t.len() {
+            continue;
+        }
+        compared += 1;
+        let planted = rms(distances_to(&t, stroke.points()));
+        let fitted = rms(distances_to(&segments(&f.chains), stroke.points()));
+        assert!(
+            fitted <= 1.03 * planted,
+            "{name}, draw {seed}: rms {fitted} against the planted curve's {planted}"
+        );
+    }
+    assert!(compared >= 4, "only {compared} draws had the planted count");
 }

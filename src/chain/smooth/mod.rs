@@ -604,6 +604,7 @@ fn smooth_from(
             / END_TOLERANCE,
         weights: Vec::new(),
         minimax: false,
+        polish: false,
         tolerance: smooth.tolerance,
     };
     layout.clamp(&mut x, solver.log_kappa);
@@ -648,8 +649,20 @@ fn smooth_from(
         if worst <= smooth.tolerance {
             if let Some(chain) = held(&evaluation, &assign, &own) {
                 return Ok(
-                    fewer_joints(smooth, &mut solver, &layout, &x, &assign, &evaluation)
-                        .unwrap_or(chain),
+                    match fewer_joints(smooth, &mut solver, &layout, &x, &assign, &evaluation) {
+                        Some((chain, s)) => polished(
+                            smooth,
+                            &mut solver,
+                            (&s.layout, &s.x, &s.assign, &s.evaluation),
+                            chain,
+                        ),
+                        None => polished(
+                            smooth,
+                            &mut solver,
+                            (&layout, &x, &assign, &evaluation),
+                            chain,
+                        ),
+                    },
                 );
             }
         } else if worst <= MINIMAX_REACH * smooth.tolerance
@@ -714,11 +727,12 @@ fn fewer_joints(
     x: &Params,
     assign: &[Vec<usize>],
     evaluation: &Evaluation,
-) -> Option<Chain> {
+) -> Option<(Chain, Solved)> {
     let points = smooth.input.points;
     let (mut layout, mut x, mut assign) = (layout.clone(), x.clone(), assign.to_vec());
     let mut segments = evaluation.segments.clone();
     let mut best = None;
+    let mut kept = None;
     // Per joint: tried and kept. A removal changes the chain near it only, so a joint that
     // could not go is tried again only once a neighbouring segment has changed.
     let mut failed = vec![false; layout.n() + 1];
@@ -768,7 +782,9 @@ fn fewer_joints(
                 continue;
             }
             best = Some(finish(smooth, &l, &e, &a, nearest));
-            (layout, x, assign, segments) = (l, y, a, e.segments);
+            segments = e.segments.clone();
+            kept = Some(e);
+            (layout, x, assign) = (l, y, a);
             failed.remove(j);
             failed[j - 1] = false;
             if let Some(f) = failed.get_mut(j) {
@@ -778,7 +794,59 @@ fn fewer_joints(
         }
         break;
     }
-    best
+    let evaluation = kept?;
+    Some((
+        best?,
+        Solved {
+            layout,
+            x,
+            assign,
+            evaluation,
+        },
+    ))
+}
+
+/// A solved chain: its layout, unknowns, the samples' assignment and its evaluation.
+struct Solved {
+    layout: Layout,
+    x: Params,
+    assign: Vec<Vec<usize>>,
+    evaluation: Evaluation,
+}
+
+/// `chain`, the solved chain of `x`, polished towards its least-squares minimum where that still
+/// holds the tolerance: the solve that found it stops as soon as a step gains little while every
+/// sample is within the tolerance ([`WITHIN_DECREASE`]), and the cuts, minimax rounds and
+/// removals that led to it aim at the tolerance, not at the lowest deviation.
+fn polished(
+    smooth: &SmoothInput,
+    solver: &mut Solver,
+    (layout, x, assign, evaluation): (&Layout, &Params, &[Vec<usize>], &Evaluation),
+    chain: Chain,
+) -> Chain {
+    let (mut y, mut a) = (x.clone(), assign.to_vec());
+    solver.polish = true;
+    let e = solve(solver, layout, &mut y, &mut a, Some((evaluation, assign)));
+    solver.polish = false;
+    let Some(e) = e else {
+        return chain;
+    };
+    let own = distances(&e);
+    let squares = |e: &Evaluation| e.residuals.iter().flatten().map(|r| r * r).sum::<f64>();
+    if !(squares(&e) < squares(evaluation)) || worst_sample(&own).0 > smooth.tolerance {
+        return chain;
+    }
+    let nearest = nearest_deviation(
+        smooth.input.points,
+        &e.segments,
+        &a,
+        &own,
+        smooth.chord_error,
+    );
+    if nearest > smooth.tolerance {
+        return chain;
+    }
+    finish(smooth, layout, &e, &a, nearest)
 }
 
 /// Relative margin within which a joint's log-curvature counts as on its upper bound.

@@ -34,6 +34,9 @@ pub(super) struct Solver<'a> {
     /// Whether the fit is refitting for the largest distance ([`minimax`]): it then stops as
     /// soon as every sample is within the tolerance.
     pub(super) minimax: bool,
+    /// Whether the fit is polishing a chain that holds the tolerance towards its least-squares
+    /// minimum ([`POLISH_DECREASE`]).
+    pub(super) polish: bool,
     /// The part's tolerance (see [`WITHIN_DECREASE`]).
     pub(super) tolerance: f64,
 }
