@@ -618,3 +618,41 @@ fn a_chain_that_holds_the_tolerance_ends_at_its_least_squares_minimum() {
     }
     assert!(compared >= 4, "only {compared} draws had the planted count");
 }
+
+#[test]
+fn a_chain_held_by_its_minimax_fit_loses_the_joints_it_can_do_without() {
+    // A planted pair from the random sweep (its pixel case 118: a spiral tightening into a
+    // curvature maximum, then easing to a flat end) drawn on whole pixels. The planted curve
+    // itself reaches 0.9 tolerances (the grid's floor is its worst rounding), so the smooth
+    // chain holds the tolerance only after its minimax rounds, and the joint removal, which ran
+    // only where the least-squares chain held, left a third segment. Drawn from four sub-pixel
+    // starts: no more segments than planted, within the tolerance, curvature-continuous.
+    let parts = [(193.0, Some(-1.21), 0.0193), (82.0, Some(-0.93), 0.0)];
+    let case = Case {
+        name: "a spiral tightening, then easing to a flat end",
+        kappa0: 0.0121,
+        samples: (parts.iter().map(|p| p.0).sum::<f64>() / 0.9) as usize,
+        parts: parts.to_vec(),
+    };
+    for (i, start) in [(20.0, 30.0), (20.3, 30.6), (20.5, 30.2), (20.8, 30.9)]
+        .into_iter()
+        .enumerate()
+    {
+        let t = truth(&case, Point::new(start.0, start.1), 1.0);
+        let stroke = samples(&t, case.samples, |p| Point::new(p.x.round(), p.y.round()));
+        let f = fit(&stroke, Units::Px, Continuity::G2);
+        let n: usize = f.chains.iter().map(|c| c.segments.len()).sum();
+        assert!(
+            n <= t.len(),
+            "{}, start {i}: {n} segments for {}",
+            case.name,
+            t.len()
+        );
+        assert!(f.chains.iter().all(|c| c.within_tolerance), "{}", case.name);
+        assert!(
+            f.chains.iter().all(|c| c.continuity == Continuity::G2),
+            "{}, start {i}",
+            case.name
+        );
+    }
+}

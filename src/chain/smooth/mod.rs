@@ -668,11 +668,23 @@ fn smooth_from(
         } else if worst <= MINIMAX_REACH * smooth.tolerance
             // A near miss is first fitted for its largest distance rather than cut (see
             // [`MINIMAX_ROUNDS`]).
-            && let Some((evaluation, assign, _)) =
+            && let Some((evaluation, assign, z)) =
                 minimax(&mut solver, &layout, &x, &assign, &evaluation)
             && let Some(chain) = held(&evaluation, &assign, &distances(&evaluation))
         {
-            return Ok(chain);
+            // Its joints may go too; a chain with fewer joints is polished where its
+            // least-squares solve held (a minimax chain is not: its least-squares fit missed).
+            return Ok(
+                match fewer_joints(smooth, &mut solver, &layout, &z, &assign, &evaluation) {
+                    Some((chain, s)) => polished(
+                        smooth,
+                        &mut solver,
+                        (&s.layout, &s.x, &s.assign, &s.evaluation),
+                        chain,
+                    ),
+                    None => chain,
+                },
+            );
         }
         if let missed @ Missed::Bound(_) = on_bound(&layout, &x, &chain.segments, max_log_kappa) {
             return Err(missed);
