@@ -8,7 +8,8 @@ mod common;
 
 use common::Rng;
 use common::planted::{
-    distance_between, distances_to, jittered, planted_at, profile_error, samples, segments,
+    distance_between, distances_to, drawn_three_ways, jittered, planted_at, profile_error,
+    random_chain, samples, segments,
 };
 use kansei::chain::{Chain, Continuity};
 use kansei::geom::{Point, Vec2};
@@ -654,5 +655,30 @@ fn a_chain_held_by_its_minimax_fit_loses_the_joints_it_can_do_without() {
             "{}, start {i}",
             case.name
         );
+    }
+}
+
+#[test]
+fn a_back_step_of_jitter_on_a_pixel_grid_is_no_corner() {
+    // 0.3 px of jitter then rounding (a shaky mouse) steps back by a diagonal pixel (1.41 px)
+    // here and there: an exact reversal at a sample. At that noise's floor (1.33 px) the fold
+    // rule, which cut where both legs of a reversal were longer than a tolerance, put corners
+    // into smooth planted chains. Two samples within a tolerance of a curve can lie two
+    // tolerances apart across it, so a fold's legs must be longer than that. The cases: the
+    // random sweep's (`examples/planted_sweep.rs 200 1`, the same generator and draws) jittered
+    // cases that were cut so, each of which must now come back in one piece.
+    let mut rng = Rng::new(1);
+    let mut chains = Vec::new();
+    while chains.len() < 200 {
+        if let Some(c) = random_chain(&mut rng) {
+            chains.push(c);
+        }
+    }
+    for i in [67, 118, 124, 161, 165, 177, 198] {
+        // The sweep draws its two halves on two threads, each numbering its own cases.
+        let k = if i < 100 { i } else { 100_000 + i - 100 };
+        let stroke = drawn_three_ways(&chains[i], k as u64).jittered;
+        let f = fit(&stroke, Units::Px, Continuity::G2);
+        assert_eq!(f.chains.len(), 1, "sweep case {i}: cut into pieces");
     }
 }
