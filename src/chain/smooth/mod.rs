@@ -648,22 +648,13 @@ fn smooth_from(
         };
         if worst <= smooth.tolerance {
             if let Some(chain) = held(&evaluation, &assign, &own) {
-                return Ok(
-                    match fewer_joints(smooth, &mut solver, &layout, &x, &assign, &evaluation) {
-                        Some((chain, s)) => polished(
-                            smooth,
-                            &mut solver,
-                            (&s.layout, &s.x, &s.assign, &s.evaluation),
-                            chain,
-                        ),
-                        None => polished(
-                            smooth,
-                            &mut solver,
-                            (&layout, &x, &assign, &evaluation),
-                            chain,
-                        ),
-                    },
-                );
+                return Ok(settled(
+                    smooth,
+                    &mut solver,
+                    (&layout, &x, &assign, &evaluation),
+                    chain,
+                    true,
+                ));
             }
         } else if worst <= MINIMAX_REACH * smooth.tolerance
             // A near miss is first fitted for its largest distance rather than cut (see
@@ -672,19 +663,13 @@ fn smooth_from(
                 minimax(&mut solver, &layout, &x, &assign, &evaluation)
             && let Some(chain) = held(&evaluation, &assign, &distances(&evaluation))
         {
-            // Its joints may go too; a chain with fewer joints is polished where its
-            // least-squares solve held (a minimax chain is not: its least-squares fit missed).
-            return Ok(
-                match fewer_joints(smooth, &mut solver, &layout, &z, &assign, &evaluation) {
-                    Some((chain, s)) => polished(
-                        smooth,
-                        &mut solver,
-                        (&s.layout, &s.x, &s.assign, &s.evaluation),
-                        chain,
-                    ),
-                    None => chain,
-                },
-            );
+            return Ok(settled(
+                smooth,
+                &mut solver,
+                (&layout, &z, &assign, &evaluation),
+                chain,
+                false,
+            ));
         }
         if let missed @ Missed::Bound(_) = on_bound(&layout, &x, &chain.segments, max_log_kappa) {
             return Err(missed);
@@ -742,9 +727,8 @@ fn fewer_joints(
 ) -> Option<(Chain, Solved)> {
     let points = smooth.input.points;
     let (mut layout, mut x, mut assign) = (layout.clone(), x.clone(), assign.to_vec());
-    let mut segments = evaluation.segments.clone();
+    let mut kept = evaluation.clone();
     let mut best = None;
-    let mut kept = None;
     // Per joint: tried and kept. A removal changes the chain near it only, so a joint that
     // could not go is tried again only once a neighbouring segment has changed.
     let mut failed = vec![false; layout.n() + 1];
@@ -770,7 +754,7 @@ fn fewer_joints(
         for (_, j) in joints {
             failed[j] = true;
             let (mut l, mut y, mut a) = (layout.clone(), x.clone(), assign.clone());
-            if join_at(smooth.alpha, &mut l, &mut y, &mut a, &segments, j).is_none() {
+            if join_at(smooth.alpha, &mut l, &mut y, &mut a, &kept.segments, j).is_none() {
                 continue;
             }
             l.clamp(&mut y, solver.log_kappa);
@@ -794,9 +778,7 @@ fn fewer_joints(
                 continue;
             }
             best = Some(finish(smooth, &l, &e, &a, nearest));
-            segments = e.segments.clone();
-            kept = Some(e);
-            (layout, x, assign) = (l, y, a);
+            (layout, x, assign, kept) = (l, y, a, e);
             failed.remove(j);
             failed[j - 1] = false;
             if let Some(f) = failed.get_mut(j) {
@@ -806,16 +788,38 @@ fn fewer_joints(
         }
         break;
     }
-    let evaluation = kept?;
-    Some((
-        best?,
-        Solved {
+    best.map(|chain| {
+        let solved = Solved {
             layout,
             x,
             assign,
-            evaluation,
-        },
-    ))
+            evaluation: kept,
+        };
+        (chain, solved)
+    })
+}
+
+/// The part's answer from `chain`, the solved chain of `x` that holds the tolerance: its joints
+/// removed where they can go ([`fewer_joints`]), then polished ([`polished`]). A chain that held
+/// only after its minimax rounds (`least_squares` false) is polished only where a removal
+/// changed it: its own least-squares fit is the one that missed.
+fn settled(
+    smooth: &SmoothInput,
+    solver: &mut Solver,
+    (layout, x, assign, evaluation): (&Layout, &Params, &[Vec<usize>], &Evaluation),
+    chain: Chain,
+    least_squares: bool,
+) -> Chain {
+    match fewer_joints(smooth, solver, layout, x, assign, evaluation) {
+        Some((chain, s)) => polished(
+            smooth,
+            solver,
+            (&s.layout, &s.x, &s.assign, &s.evaluation),
+            chain,
+        ),
+        None if least_squares => polished(smooth, solver, (layout, x, assign, evaluation), chain),
+        None => chain,
+    }
 }
 
 /// A solved chain: its layout, unknowns, the samples' assignment and its evaluation.
