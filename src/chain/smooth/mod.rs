@@ -634,20 +634,8 @@ fn smooth_from(
         }
         let own = distances(&evaluation);
         let (worst, _) = worst_sample(&own);
-        // Every sample within the tolerance of its own segment and of the whole chain: done.
-        let held = |evaluation: &Evaluation, assign: &[Vec<usize>], own: &[Vec<f64>]| {
-            let nearest = nearest_deviation(
-                points,
-                &evaluation.segments,
-                assign,
-                own,
-                smooth.chord_error,
-            );
-            (nearest <= smooth.tolerance)
-                .then(|| finish(smooth, &layout, evaluation, assign, nearest))
-        };
         if worst <= smooth.tolerance {
-            if let Some(chain) = held(&evaluation, &assign, &own) {
+            if let Some(chain) = held(smooth, &layout, &evaluation, &assign) {
                 return Ok(settled(
                     smooth,
                     &mut solver,
@@ -661,7 +649,7 @@ fn smooth_from(
             // [`MINIMAX_ROUNDS`]).
             && let Some((evaluation, assign, z)) =
                 minimax(&mut solver, &layout, &x, &assign, &evaluation)
-            && let Some(chain) = held(&evaluation, &assign, &distances(&evaluation))
+            && let Some(chain) = held(smooth, &layout, &evaluation, &assign)
         {
             return Ok(settled(
                 smooth,
@@ -725,7 +713,6 @@ fn fewer_joints(
     assign: &[Vec<usize>],
     evaluation: &Evaluation,
 ) -> Option<(Chain, Solved)> {
-    let points = smooth.input.points;
     let (mut layout, mut x, mut assign) = (layout.clone(), x.clone(), assign.to_vec());
     let mut kept = evaluation.clone();
     let mut best = None;
@@ -772,12 +759,10 @@ fn fewer_joints(
             } else {
                 continue;
             };
-            let own = distances(&e);
-            let nearest = nearest_deviation(points, &e.segments, &a, &own, smooth.chord_error);
-            if nearest > smooth.tolerance {
+            let Some(chain) = held(smooth, &l, &e, &a) else {
                 continue;
-            }
-            best = Some(finish(smooth, &l, &e, &a, nearest));
+            };
+            best = Some(chain);
             (layout, x, assign, kept) = (l, y, a, e);
             failed.remove(j);
             failed[j - 1] = false;
@@ -799,10 +784,35 @@ fn fewer_joints(
     })
 }
 
+/// The chain record of `e` where every sample is within the tolerance of its own segment and of
+/// the whole chain; `None` otherwise.
+fn held(
+    smooth: &SmoothInput,
+    layout: &Layout,
+    e: &Evaluation,
+    assign: &[Vec<usize>],
+) -> Option<Chain> {
+    let own = distances(e);
+    if worst_sample(&own).0 > smooth.tolerance {
+        return None;
+    }
+    let nearest = nearest_deviation(
+        smooth.input.points,
+        &e.segments,
+        assign,
+        &own,
+        smooth.chord_error,
+    );
+    (nearest <= smooth.tolerance).then(|| finish(smooth, layout, e, assign, nearest))
+}
+
 /// The part's answer from `chain`, the solved chain of `x` that holds the tolerance: its joints
 /// removed where they can go ([`fewer_joints`]), then polished ([`polished`]). A chain that held
 /// only after its minimax rounds (`least_squares` false) is polished only where a removal
-/// changed it: its own least-squares fit is the one that missed.
+/// changed it: its own least-squares fit is the one that missed. (A removal that held only after
+/// minimax rounds is polished: the least-squares solve from its minimax chain can find another
+/// minimum that holds; on the random sweep one more jittered case as planted, for a tenth more
+/// instructions on the fixture strokes than without.)
 fn settled(
     smooth: &SmoothInput,
     solver: &mut Solver,
@@ -847,22 +857,12 @@ fn polished(
     let Some(e) = e else {
         return chain;
     };
-    let own = distances(&e);
+    // Unweighted: a removal's evaluation may be a minimax round's, whose cost is weighted.
     let squares = |e: &Evaluation| e.residuals.iter().flatten().map(|r| r * r).sum::<f64>();
-    if !(squares(&e) < squares(evaluation)) || worst_sample(&own).0 > smooth.tolerance {
+    if !(squares(&e) < squares(evaluation)) {
         return chain;
     }
-    let nearest = nearest_deviation(
-        smooth.input.points,
-        &e.segments,
-        &a,
-        &own,
-        smooth.chord_error,
-    );
-    if nearest > smooth.tolerance {
-        return chain;
-    }
-    finish(smooth, layout, &e, &a, nearest)
+    held(smooth, layout, &e, &a).unwrap_or(chain)
 }
 
 /// Relative margin within which a joint's log-curvature counts as on its upper bound.
