@@ -59,6 +59,33 @@ impl Solver<'_> {
         assign: &[Vec<usize>],
         near: Option<(&Evaluation, &[Vec<usize>])>,
     ) -> Evaluation {
+        self.evaluate_within(segments, assign, near, f64::INFINITY)
+            .0
+    }
+
+    /// [`Solver::evaluate`], given up (`None`) as soon as the cost of the segments evaluated so
+    /// far exceeds `bound`: a trial step that cannot lower the cost below the current chain's
+    /// is refused whatever its other segments' distances are, so their feet are not searched.
+    pub(super) fn evaluate_below(
+        &self,
+        segments: Vec<LacSegment>,
+        assign: &[Vec<usize>],
+        near: Option<(&Evaluation, &[Vec<usize>])>,
+        bound: f64,
+    ) -> Option<Evaluation> {
+        let (e, complete) = self.evaluate_within(segments, assign, near, bound);
+        complete.then_some(e)
+    }
+
+    /// The evaluation, and whether it is complete: it stops after the first segment at which
+    /// the cost exceeds `bound` (never for an infinite bound).
+    fn evaluate_within(
+        &self,
+        segments: Vec<LacSegment>,
+        assign: &[Vec<usize>],
+        near: Option<(&Evaluation, &[Vec<usize>])>,
+        bound: f64,
+    ) -> (Evaluation, bool) {
         let n = segments.len();
         let mut e = Evaluation {
             residuals: Vec::with_capacity(n),
@@ -113,8 +140,11 @@ impl Solver<'_> {
             e.residuals.push(residuals);
             e.feet.push(d.feet);
             e.foot_points.push(foot_points);
+            if e.cost > bound {
+                return (e, false);
+            }
         }
-        e
+        (e, true)
     }
 
     /// The constraint values of a chain: end point minus the target (scaled by the extent);
