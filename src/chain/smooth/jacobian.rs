@@ -113,6 +113,10 @@ pub(super) fn shooting_jacobian(
             continue;
         }
         let (k0, k1) = layout.shooting_reach(var);
+        // Outside a local solve's window the column is held at zero (see [`Solver::window`]).
+        if solver.frozen(var, layout.n()) && !solver.reaches_window((k0, k1)) {
+            continue;
+        }
         set(layout, &mut xp, var, get(layout, x, var) + DIFFERENCE_STEP);
         for k in k0..=k1 {
             // A pose moves its segment rigidly, each point by shift + turn·(P − Pₖ)^⊥ per unit

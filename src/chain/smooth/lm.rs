@@ -320,13 +320,14 @@ pub(super) fn project(
                     // Unknowns on a bound stay there: a step the clamp would cut short
                     // turns Newton's quadratic convergence into a crawl.
                     for (i, &var) in vars.iter().enumerate() {
-                        if layout.pushed_beyond(var, x, 1.0, solver.log_kappa)
+                        if solver.frozen(var, n)
+                            || layout.pushed_beyond(var, x, 1.0, solver.log_kappa)
                             || layout.pushed_beyond(var, x, -1.0, solver.log_kappa)
                         {
                             jc.column_mut(i).fill(0.0);
                         }
                     }
-                    let factor = LeastNorm::new(&jc, &rows)?;
+                    let factor = LeastNorm::new(&jc, &rows, solver.window.is_some())?;
                     let step = factor.step(&c)?;
                     kept = Some(factor);
                     step
@@ -385,7 +386,10 @@ pub(super) struct LeastNorm {
 
 impl LeastNorm {
     /// `None` where JJᵀ is singular (a constraint no free unknown moves) or the sizes differ.
-    pub(super) fn new(jc: &DMatrix<f64>, rows: &[usize]) -> Option<Self> {
+    /// With `idle_rows`, a constraint no unknown moves (one among the segments a local solve
+    /// holds, see [`Solver::window`], met already) gets a unit diagonal instead: its multiplier
+    /// moves nothing.
+    pub(super) fn new(jc: &DMatrix<f64>, rows: &[usize], idle_rows: bool) -> Option<Self> {
         let (nc, m) = jc.shape();
         if rows.len() != nc {
             return None;
@@ -412,6 +416,13 @@ impl LeastNorm {
             for (a, &(p, u)) in col.iter().enumerate() {
                 for &(q, v) in &col[..=a] {
                     gram.add(p, q, u * v);
+                }
+            }
+        }
+        if idle_rows {
+            for r in 0..nc {
+                if (0..m).all(|j| jc[(r, j)] == 0.0) {
+                    gram.add(rows[r], rows[r], 1.0);
                 }
             }
         }
@@ -516,7 +527,9 @@ pub(super) fn levenberg_marquardt(
             jc.column_mut(i).fill(0.0);
         };
         for (i, &var) in vars.iter().enumerate() {
-            if layout.pushed_beyond(var, x, -g[i], solver.log_kappa) {
+            if solver.frozen(var, layout.n())
+                || layout.pushed_beyond(var, x, -g[i], solver.log_kappa)
+            {
                 hold(i, &mut held, &mut a, &mut g, &mut jc);
             }
         }
@@ -540,6 +553,15 @@ pub(super) fn levenberg_marquardt(
             let (lower, upper) = entries.iter().fold((0, 0), |(l, u), &(i, j, _)| {
                 (l.max(i.saturating_sub(j)), u.max(j.saturating_sub(i)))
             });
+            // A constraint no unknown moves (among the segments a local solve holds) gets a
+            // unit diagonal: its multiplier then moves nothing.
+            if solver.window.is_some() {
+                for r in 0..nc {
+                    if (0..m).all(|j| jc[(r, j)] == 0.0) {
+                        entries.push((position[m + r], position[m + r], 1.0));
+                    }
+                }
+            }
             let mut rhs = vec![0.0; m + nc];
             for i in 0..m {
                 rhs[position[i]] = -g[i];
@@ -594,7 +616,9 @@ pub(super) fn levenberg_marquardt(
                 }
                 let mut trial = moved(layout, x, &vars, &delta);
                 let factor = chord
-                    .get_or_insert_with(|| LeastNorm::new(&jc, &constraint_rows))
+                    .get_or_insert_with(|| {
+                        LeastNorm::new(&jc, &constraint_rows, solver.window.is_some())
+                    })
                     .as_ref();
                 let projected = project(
                     Form::Shooting,

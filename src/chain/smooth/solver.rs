@@ -39,9 +39,43 @@ pub(super) struct Solver<'a> {
     pub(super) polish: bool,
     /// The part's tolerance (see [`WITHIN_DECREASE`]).
     pub(super) tolerance: f64,
+    /// The segments a local solve moves (first and last, inclusive; see
+    /// [`REMOVAL_REACH`]): every unknown of the others, and the curvatures of the joints at the
+    /// window's two ends, stay where they are. `None`: the whole part moves.
+    pub(super) window: Option<(usize, usize)>,
 }
 
 impl Solver<'_> {
+    /// Whether `var` stays where it is in this solve (outside its [`Solver::window`]).
+    pub(super) fn frozen(&self, var: Var, n: usize) -> bool {
+        let Some((first, last)) = self.window else {
+            return false;
+        };
+        match var {
+            Var::X(k) | Var::Y(k) | Var::Angle(k) | Var::Length(k) | Var::Alpha(k) => {
+                k < first || k > last
+            }
+            // The window's end joints are shared with a segment that stays, but for the
+            // part's own ends.
+            Var::Joint(j) => {
+                let after_first = first < j || (j == 0 && first == 0);
+                let before_last = j <= last || (j == n && last + 1 == n);
+                !(after_first && before_last)
+            }
+            Var::Theta0 | Var::StartShift => first > 0,
+            Var::EndShift => last + 1 < n,
+        }
+    }
+
+    /// Whether a change of `var`, which reshapes or moves the segments `reach` (first and last,
+    /// inclusive), reaches the window: otherwise its Jacobian column is not needed.
+    pub(super) fn reaches_window(&self, (k0, k1): (usize, usize)) -> bool {
+        match self.window {
+            None => true,
+            Some((first, last)) => k0 <= last && k1 >= first,
+        }
+    }
+
     pub(super) fn points_of(&self, list: &[usize]) -> Vec<Point> {
         list.iter().map(|&i| self.points[i]).collect()
     }
@@ -96,6 +130,32 @@ impl Solver<'_> {
         };
         for (k, list) in assign.iter().enumerate() {
             let seg = &e.segments[k];
+            // A segment the step left as it was (outside a local solve's window, see
+            // [`Solver::window`]), holding the same samples: its distances are the ones it had.
+            if let Some((old, old_assign)) = near
+                && old_assign.get(k) == Some(list)
+                && old.segments.get(k) == Some(seg)
+                && let (Some(residuals), Some(feet), Some(foot_points)) = (
+                    old.residuals.get(k),
+                    old.feet.get(k),
+                    old.foot_points.get(k),
+                )
+                && residuals.len() == list.len()
+            {
+                let residuals = residuals.clone();
+                e.cost += residuals
+                    .iter()
+                    .zip(list)
+                    .map(|(r, &i)| self.weight(i) * r * r)
+                    .sum::<f64>();
+                e.residuals.push(residuals);
+                e.feet.push(feet.clone());
+                e.foot_points.push(foot_points.clone());
+                if e.cost > bound {
+                    return (e, false);
+                }
+                continue;
+            }
             let pts = self.points_of(list);
             let mut d = match near {
                 Some((old, old_assign)) if old_assign.get(k) == Some(list) => deviation_from(
@@ -343,4 +403,69 @@ pub(super) fn reassigned(solver: &Solver, e: &mut Evaluation, assign: &mut [Vec<
     }
     *e = solver.evaluate(e.segments.clone(), assign, Some((&*e, &before)));
     true
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn solver(points: &[Point], window: Option<(usize, usize)>) -> Solver<'_> {
+        Solver {
+            points,
+            start: Point::ORIGIN,
+            scale: 1.0,
+            chord_error: 1e-3,
+            log_kappa: (-10.0, 10.0),
+            c3: false,
+            trial_slack: 1.0,
+            weights: Vec::new(),
+            minimax: false,
+            polish: false,
+            tolerance: 1.0,
+            window,
+        }
+    }
+
+    /// A window moves its segments' own unknowns and the joints between them; the joints at its
+    /// two ends are shared with segments that stay, unless they are the part's own ends.
+    #[test]
+    fn a_window_moves_its_segments_and_its_inner_joints() {
+        let points = [Point::ORIGIN];
+        let n = 8;
+        let whole = solver(&points, None);
+        assert!((0..=n).all(|j| !whole.frozen(Var::Joint(j), n)));
+        let inner = solver(&points, Some((2, 4)));
+        let free: Vec<usize> = (0..=n)
+            .filter(|&j| !inner.frozen(Var::Joint(j), n))
+            .collect();
+        assert_eq!(free, vec![3, 4]);
+        for k in 0..n {
+            let inside = (2..=4).contains(&k);
+            for var in [
+                Var::X(k),
+                Var::Y(k),
+                Var::Angle(k),
+                Var::Length(k),
+                Var::Alpha(k),
+            ] {
+                assert_eq!(inner.frozen(var, n), !inside, "{var:?}");
+            }
+        }
+        assert!(inner.frozen(Var::StartShift, n) && inner.frozen(Var::EndShift, n));
+        let first = solver(&points, Some((0, 2)));
+        let free: Vec<usize> = (0..=n)
+            .filter(|&j| !first.frozen(Var::Joint(j), n))
+            .collect();
+        assert_eq!(free, vec![0, 1, 2]);
+        assert!(!first.frozen(Var::StartShift, n) && first.frozen(Var::EndShift, n));
+        let last = solver(&points, Some((5, 7)));
+        let free: Vec<usize> = (0..=n)
+            .filter(|&j| !last.frozen(Var::Joint(j), n))
+            .collect();
+        assert_eq!(free, vec![6, 7, 8]);
+        assert!(last.frozen(Var::StartShift, n) && !last.frozen(Var::EndShift, n));
+        // A column reaches the window where the segments it changes meet it.
+        assert!(inner.reaches_window((1, 2)) && inner.reaches_window((4, 5)));
+        assert!(!inner.reaches_window((0, 1)) && !inner.reaches_window((5, 6)));
+    }
 }
