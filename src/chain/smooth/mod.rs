@@ -900,8 +900,8 @@ fn polished(
     held(smooth, layout, &e, &a).unwrap_or(chain)
 }
 
-/// Segments on each side of a joined segment that a joint removal's solve moves with it (see
-/// [`fewer_joints`]); the rest of the part stays, and so do the curvatures of the joints at the
+/// Segments on each side of a joined segment that a joint removal's solve moves with it (the
+/// smooth fit's removal of joints it can do without); the rest of the part stays, and so do the curvatures of the joints at the
 /// window's ends: a try costs a few segments' solve, not the whole part's (up to 54 segments on
 /// the scribble). The polish after the removals solves the whole part again. Over the fixture
 /// strokes up to 600 samples, against whole-part tries (650 segments, 5 389 M instructions):
