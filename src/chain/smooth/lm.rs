@@ -327,7 +327,7 @@ pub(super) fn project(
                             jc.column_mut(i).fill(0.0);
                         }
                     }
-                    let factor = LeastNorm::new(&jc, &rows, solver.window.is_some())?;
+                    let factor = LeastNorm::new(&jc, &rows)?;
                     let step = factor.step(&c)?;
                     kept = Some(factor);
                     step
@@ -385,11 +385,10 @@ pub(super) struct LeastNorm {
 }
 
 impl LeastNorm {
-    /// `None` where JJᵀ is singular (a constraint no free unknown moves) or the sizes differ.
-    /// With `idle_rows`, a constraint no unknown moves (one among the segments a local solve
-    /// holds, see [`Solver::window`], met already) gets a unit diagonal instead: its multiplier
+    /// `None` where JJᵀ is singular or the sizes differ. A constraint no unknown moves (one among
+    /// held segments, see [`Solver::window`], met already) gets a unit diagonal: its multiplier
     /// moves nothing.
-    pub(super) fn new(jc: &DMatrix<f64>, rows: &[usize], idle_rows: bool) -> Option<Self> {
+    pub(super) fn new(jc: &DMatrix<f64>, rows: &[usize]) -> Option<Self> {
         let (nc, m) = jc.shape();
         if rows.len() != nc {
             return None;
@@ -419,12 +418,12 @@ impl LeastNorm {
                 }
             }
         }
-        if idle_rows {
-            for r in 0..nc {
-                if (0..m).all(|j| jc[(r, j)] == 0.0) {
-                    gram.add(rows[r], rows[r], 1.0);
-                }
-            }
+        let mut moved_by = vec![false; nc];
+        for &(p, _) in columns.iter().flatten() {
+            moved_by[p] = true;
+        }
+        for p in (0..nc).filter(|&p| !moved_by[p]) {
+            gram.add(p, p, 1.0);
         }
         Some(LeastNorm {
             columns,
@@ -537,6 +536,8 @@ pub(super) fn levenberg_marquardt(
         'assemble: for _ in 0..=m {
             // The KKT system [A + λD, Jcᵀ; Jc, 0] in the band order, as its nonzero entries.
             let mut entries = Vec::new();
+            // Whether some unknown moves each constraint.
+            let mut moved_by = vec![false; nc];
             for (j, rows) in pattern.iter().enumerate() {
                 for &i in rows {
                     if a[(i, j)] != 0.0 || i == j {
@@ -545,23 +546,20 @@ pub(super) fn levenberg_marquardt(
                 }
                 for r in 0..nc {
                     if jc[(r, j)] != 0.0 {
+                        moved_by[r] = true;
                         entries.push((position[m + r], position[j], jc[(r, j)]));
                         entries.push((position[j], position[m + r], jc[(r, j)]));
                     }
                 }
             }
+            // A constraint no unknown moves (one among held segments, see [`Solver::window`])
+            // gets a unit diagonal: its multiplier then moves nothing.
+            for r in (0..nc).filter(|&r| !moved_by[r]) {
+                entries.push((position[m + r], position[m + r], 1.0));
+            }
             let (lower, upper) = entries.iter().fold((0, 0), |(l, u), &(i, j, _)| {
                 (l.max(i.saturating_sub(j)), u.max(j.saturating_sub(i)))
             });
-            // A constraint no unknown moves (among the segments a local solve holds) gets a
-            // unit diagonal: its multiplier then moves nothing.
-            if solver.window.is_some() {
-                for r in 0..nc {
-                    if (0..m).all(|j| jc[(r, j)] == 0.0) {
-                        entries.push((position[m + r], position[m + r], 1.0));
-                    }
-                }
-            }
             let mut rhs = vec![0.0; m + nc];
             for i in 0..m {
                 rhs[position[i]] = -g[i];
@@ -616,9 +614,7 @@ pub(super) fn levenberg_marquardt(
                 }
                 let mut trial = moved(layout, x, &vars, &delta);
                 let factor = chord
-                    .get_or_insert_with(|| {
-                        LeastNorm::new(&jc, &constraint_rows, solver.window.is_some())
-                    })
+                    .get_or_insert_with(|| LeastNorm::new(&jc, &constraint_rows))
                     .as_ref();
                 let projected = project(
                     Form::Shooting,

@@ -635,29 +635,23 @@ fn smooth_from(
         }
         let own = distances(&evaluation);
         let (worst, _) = worst_sample(&own);
-        if worst <= smooth.tolerance {
-            if let Some(chain) = held(smooth, &layout, &evaluation, &assign) {
-                return Ok(settled(
-                    smooth,
-                    &mut solver,
-                    (&layout, &x, &assign, &evaluation),
-                    chain,
-                    true,
-                ));
-            }
-        } else if worst <= MINIMAX_REACH * smooth.tolerance
-            // A near miss is first fitted for its largest distance rather than cut (see
-            // [`MINIMAX_ROUNDS`]).
-            && let Some((evaluation, assign, z)) =
-                minimax(&mut solver, &layout, &x, &assign, &evaluation)
-            && let Some(chain) = held(smooth, &layout, &evaluation, &assign)
-        {
+        if let Some((chain, refit)) = holding(
+            smooth,
+            &mut solver,
+            &layout,
+            (&x, &assign, &evaluation),
+            worst,
+        ) {
+            let (e, a, z) = match &refit {
+                Some((e, a, z)) => (e, a.as_slice(), z),
+                None => (&evaluation, assign.as_slice(), &x),
+            };
             return Ok(settled(
                 smooth,
                 &mut solver,
-                (&layout, &z, &assign, &evaluation),
+                (&layout, z, a, e),
                 chain,
-                false,
+                refit.is_none(),
             ));
         }
         if let missed @ Missed::Bound(_) = on_bound(&layout, &x, &chain.segments, max_log_kappa) {
@@ -757,26 +751,18 @@ fn fewer_joints(
             let near = without(&kept, j);
             let mut near_assign = assign.clone();
             near_assign.remove(j);
-            let solved =
-                solve(solver, &l, &mut y, &mut a, Some((&near, &near_assign))).and_then(|e| {
-                    let worst = worst_sample(&distances(&e)).0;
-                    if worst <= smooth.tolerance {
-                        Some(e)
-                    } else if worst <= MINIMAX_REACH * smooth.tolerance
-                        && let Some((e, m, z)) = minimax(solver, &l, &y, &a, &e)
-                    {
-                        (a, y) = (m, z);
-                        Some(e)
-                    } else {
-                        None
-                    }
-                });
+            let mut tried = None;
+            if let Some(e) = solve(solver, &l, &mut y, &mut a, Some((&near, &near_assign))) {
+                let worst = worst_sample(&distances(&e)).0;
+                if let Some((chain, refit)) = holding(smooth, solver, &l, (&y, &a, &e), worst) {
+                    tried = Some(match refit {
+                        Some((e, a, y)) => (chain, e, a, y),
+                        None => (chain, e, a, y),
+                    });
+                }
+            }
             solver.window = None;
-            let tried = solved.and_then(|e| {
-                let chain = held(smooth, &l, &e, &a)?;
-                Some((e, chain))
-            });
-            let Some((e, chain)) = tried else {
+            let Some((chain, e, a, y)) = tried else {
                 continue;
             };
             best = Some(chain);
@@ -804,19 +790,43 @@ fn fewer_joints(
 /// `e` with segment `j` taken out (its entries of every list), as the evaluation near a chain
 /// whose segments j − 1 and j were joined: the segments before and after keep their places.
 fn without(e: &Evaluation, j: usize) -> Evaluation {
-    let mut near = e.clone();
-    for list in [&mut near.residuals, &mut near.feet] {
-        if j < list.len() {
-            list.remove(j);
-        }
+    let drop = |k: &usize| *k != j;
+    let keep = |len: usize| (0..len).filter(drop);
+    Evaluation {
+        segments: keep(e.segments.len()).map(|k| e.segments[k]).collect(),
+        residuals: keep(e.residuals.len())
+            .map(|k| e.residuals[k].clone())
+            .collect(),
+        feet: keep(e.feet.len()).map(|k| e.feet[k].clone()).collect(),
+        foot_points: keep(e.foot_points.len())
+            .map(|k| e.foot_points[k].clone())
+            .collect(),
+        cost: e.cost,
     }
-    if j < near.foot_points.len() {
-        near.foot_points.remove(j);
+}
+
+/// The chain record of the solved chain `e` of `x` (its samples assigned as `assign`, the largest
+/// distance `worst`) where it holds the tolerance; where it misses by at most [`MINIMAX_REACH`],
+/// of its minimax refit ([`minimax`]: a near miss is first fitted for its largest distance rather
+/// than cut, see [`MINIMAX_ROUNDS`]), with that round's evaluation, assignment and unknowns.
+/// `None` where neither holds.
+#[allow(clippy::type_complexity)]
+fn holding(
+    smooth: &SmoothInput,
+    solver: &mut Solver,
+    layout: &Layout,
+    (x, assign, e): (&Params, &[Vec<usize>], &Evaluation),
+    worst: f64,
+) -> Option<(Chain, Option<(Evaluation, Vec<Vec<usize>>, Params)>)> {
+    if worst <= smooth.tolerance {
+        return held(smooth, layout, e, assign).map(|chain| (chain, None));
     }
-    if j < near.segments.len() {
-        near.segments.remove(j);
+    if !(worst <= MINIMAX_REACH * smooth.tolerance) {
+        return None;
     }
-    near
+    let (e, a, z) = minimax(solver, layout, x, assign, e)?;
+    let chain = held(smooth, layout, &e, &a)?;
+    Some((chain, Some((e, a, z))))
 }
 
 /// The chain record of `e` where every sample is within the tolerance of its own segment and of
@@ -901,13 +911,14 @@ fn polished(
 }
 
 /// Segments on each side of a joined segment that a joint removal's solve moves with it (the
-/// smooth fit's removal of joints it can do without); the rest of the part stays, and so do the curvatures of the joints at the
-/// window's ends: a try costs a few segments' solve, not the whole part's (up to 54 segments on
-/// the scribble). The polish after the removals solves the whole part again. Over the fixture
-/// strokes up to 600 samples, against whole-part tries (650 segments, 5 389 M instructions):
-/// 1 gave 651 segments for 4 569 M, 2 650 for 4 766 M, 3 660; a whole-part try after a local
-/// miss (1 or 2) 648 for 5 629 M or 5 183 M (of 33 tries in parts longer than the window, 18
-/// held locally, 3 more as whole parts, 12 neither). The random planted sweep is as it was.
+/// smooth fit's removal of joints it can do without); the rest of the part stays, and so do the
+/// curvatures of the joints at the window's ends: a try costs a few segments' solve, not the
+/// whole part's (up to 54 segments on the scribble). The polish after the removals solves the
+/// whole part again. Over the fixture strokes up to 600 samples, against whole-part tries (650
+/// segments, 5 389 M instructions): 1 gave 651 segments for 4 569 M, 2 650 for 4 766 M, 3 660;
+/// a whole-part try after a local miss (1 or 2) 648 for 5 629 M or 5 183 M (of 33 tries in
+/// parts longer than the window, 18 held locally, 3 more as whole parts, 12 neither). The
+/// random planted sweep is as it was.
 pub const REMOVAL_REACH: usize = 2;
 
 /// Relative margin within which a joint's log-curvature counts as on its upper bound.

@@ -129,82 +129,83 @@ impl Solver<'_> {
             segments,
         };
         for (k, list) in assign.iter().enumerate() {
-            let seg = &e.segments[k];
-            // A segment the step left as it was (outside a local solve's window, see
-            // [`Solver::window`]), holding the same samples: its distances are the ones it had.
-            if let Some((old, old_assign)) = near
-                && old_assign.get(k) == Some(list)
-                && old.segments.get(k) == Some(seg)
-                && let (Some(residuals), Some(feet), Some(foot_points)) = (
-                    old.residuals.get(k),
-                    old.feet.get(k),
-                    old.foot_points.get(k),
-                )
-                && residuals.len() == list.len()
-            {
-                let residuals = residuals.clone();
-                e.cost += residuals
-                    .iter()
-                    .zip(list)
-                    .map(|(r, &i)| self.weight(i) * r * r)
-                    .sum::<f64>();
-                e.residuals.push(residuals);
-                e.feet.push(feet.clone());
-                e.foot_points.push(foot_points.clone());
-                if e.cost > bound {
-                    return (e, false);
-                }
-                continue;
-            }
-            let pts = self.points_of(list);
-            let mut d = match near {
-                Some((old, old_assign)) if old_assign.get(k) == Some(list) => deviation_from(
-                    seg,
-                    &pts,
-                    (&old.feet[k], old.segments[k].length()),
-                    self.chord_error,
-                ),
-                _ => deviation(seg, &pts, self.chord_error),
-            };
-            let mut foot_points = if d.foot_points.len() == pts.len() {
-                std::mem::take(&mut d.foot_points)
-            } else {
-                d.feet
-                    .iter()
-                    .map(|&s| {
-                        let sample = seg.sample(s);
-                        (sample.point, normal(sample.theta))
-                    })
-                    .collect()
-            };
-            // The signed distances, in place of the distances.
-            let mut residuals = std::mem::take(&mut d.distances);
-            for (r, side) in residuals.iter_mut().zip(&d.sides) {
-                if *side < 0.0 {
-                    *r = -*r;
-                }
-            }
-            // The residual's gradient direction: the normal at an interior foot, the direction
-            // from the foot where the foot is a segment end (a sample beyond it).
-            for ((f, n), (q, r)) in foot_points.iter_mut().zip(pts.iter().zip(&residuals)) {
-                let v = *q - *f;
-                if v.hypot() > 0.0 && *r != 0.0 {
-                    *n = v / *r;
-                }
-            }
+            let (residuals, feet, foot_points) = self.distances_of(&e.segments[k], k, list, near);
             e.cost += residuals
                 .iter()
                 .zip(list)
                 .map(|(r, &i)| self.weight(i) * r * r)
                 .sum::<f64>();
             e.residuals.push(residuals);
-            e.feet.push(d.feet);
+            e.feet.push(feet);
             e.foot_points.push(foot_points);
             if e.cost > bound {
                 return (e, false);
             }
         }
         (e, true)
+    }
+
+    /// Segment `seg` (the chain's `k`-th) against its samples `list`: their signed distances,
+    /// feet and foot points with the residuals' gradient directions (see [`Evaluation`]).
+    /// `near` seeds the feet where it assigns the segment the same samples, and gives them as
+    /// they were where it also has the same segment (one a step left as it was: outside a local
+    /// solve's window, see [`Solver::window`]).
+    fn distances_of(
+        &self,
+        seg: &LacSegment,
+        k: usize,
+        list: &[usize],
+        near: Option<(&Evaluation, &[Vec<usize>])>,
+    ) -> (Vec<f64>, Vec<f64>, Vec<(Point, Vec2)>) {
+        let old = near.filter(|(_, old_assign)| old_assign.get(k).map(Vec::as_slice) == Some(list));
+        if let Some((old, _)) = old
+            && old.segments.get(k) == Some(seg)
+            && let (Some(residuals), Some(feet), Some(foot_points)) = (
+                old.residuals.get(k),
+                old.feet.get(k),
+                old.foot_points.get(k),
+            )
+            && residuals.len() == list.len()
+        {
+            return (residuals.clone(), feet.clone(), foot_points.clone());
+        }
+        let pts = self.points_of(list);
+        let mut d = match old {
+            Some((old, _)) => deviation_from(
+                seg,
+                &pts,
+                (&old.feet[k], old.segments[k].length()),
+                self.chord_error,
+            ),
+            None => deviation(seg, &pts, self.chord_error),
+        };
+        let mut foot_points = if d.foot_points.len() == pts.len() {
+            std::mem::take(&mut d.foot_points)
+        } else {
+            d.feet
+                .iter()
+                .map(|&s| {
+                    let sample = seg.sample(s);
+                    (sample.point, normal(sample.theta))
+                })
+                .collect()
+        };
+        // The signed distances, in place of the distances.
+        let mut residuals = std::mem::take(&mut d.distances);
+        for (r, side) in residuals.iter_mut().zip(&d.sides) {
+            if *side < 0.0 {
+                *r = -*r;
+            }
+        }
+        // The residual's gradient direction: the normal at an interior foot, the direction
+        // from the foot where the foot is a segment end (a sample beyond it).
+        for ((f, n), (q, r)) in foot_points.iter_mut().zip(pts.iter().zip(&residuals)) {
+            let v = *q - *f;
+            if v.hypot() > 0.0 && *r != 0.0 {
+                *n = v / *r;
+            }
+        }
+        (residuals, d.feet, foot_points)
     }
 
     /// The constraint values of a chain: end point minus the target (scaled by the extent);
