@@ -263,9 +263,9 @@ fn every_recorded_stroke_in_g2_holds_its_tolerance_its_continuity_and_the_curvat
 fn a_part_whose_start_cannot_meet_its_joint_equations_is_laid_out_from_that_start() {
     // At 0.5 px, below the hey stroke's noise floor (0.72 px), a part of 14 segments starts too
     // far from a smooth chain for the joint equations' Newton steps: a segment winds beyond its
-    // bound. The chain laid out forward from the starting chain meets them; laid out from where
-    // the failed steps had left it, it wound too, and the part stayed G1, its seven smooth
-    // joints' curvatures jumping by 10 to 170 %.
+    // bound. Laid out forward from where the failed steps had left it, the chain wound too, from
+    // both starts, and the part stayed G1, its seven smooth joints' curvatures jumping by 10 to
+    // 170 %; laid out from the starting chain itself (the third try), it meets them.
     let reached = recorded_strokes_hold_in(
         Continuity::G2,
         Some(0.5),

@@ -691,18 +691,19 @@ pub(super) fn solve(
     near: Option<(&Evaluation, &[Vec<usize>])>,
 ) -> Option<Evaluation> {
     let c3_joints = layout.c3_joints();
-    let started = x.clone();
+    // Where the layout below starts from (see [`Solver::lay_out_from_start`]).
+    let started =
+        (solver.lay_out_from_start && solver.window.is_none() && near.is_none()).then(|| x.clone());
     let segments = match project(Form::Shooting, solver, layout, x, &c3_joints, None) {
         Some(segments) => segments,
         None => {
             // The G1 chain's joints are too far from a smooth chain's for the joint equations
             // (a tangent gap of 1.5 rad where no α ≤ 0 turns a segment ending at an inflection
             // as far as the G1 one did): the chain laid out forward from its start meets them by
-            // construction and leaves only its end point to move. Its poses start the fit. It
-            // is laid out from the starting chain, not from where the failed Newton steps left
-            // it: there a segment may wind beyond its bound, and the layout failed with it (a
-            // part of 14 segments of the hey stroke at 0.5 px stayed G1).
-            *x = started;
+            // construction and leaves only its end point to move. Its poses start the fit.
+            if let Some(started) = started {
+                *x = started;
+            }
             let (mut forward, segments) = laid_forward(solver, layout, x, &c3_joints)?;
             forward.pose = segments.iter().map(|s| (s.start(), s.theta0())).collect();
             *x = forward;

@@ -43,6 +43,12 @@ pub(super) struct Solver<'a> {
     /// [`REMOVAL_REACH`]): every unknown of the others, and the curvatures of the joints at the
     /// window's two ends, stay where they are. `None`: the whole part moves.
     pub(super) window: Option<(usize, usize)>,
+    /// Whether a part's own solve (not a try from a solved chain, nor a local one) whose first
+    /// projection fails lays its chain out forward from the starting chain rather than from
+    /// where the failed Newton steps stopped (see [`smooth_part`]): those are usually nearer
+    /// the joint equations, but a segment may wind beyond its bound there, and the layout then
+    /// fails with it.
+    pub(super) lay_out_from_start: bool,
 }
 
 impl Solver<'_> {
@@ -424,6 +430,7 @@ mod tests {
             polish: false,
             tolerance: 1.0,
             window,
+            lay_out_from_start: false,
         }
     }
 
