@@ -819,17 +819,19 @@ fn removed(
             set_alpha_bounds(smooth.alpha, &mut l, &mut y, k)?;
         }
     }
-    let mut near = kept.clone();
+    // The evaluation near the joined chain: `kept` without the segments the drops take out.
+    let mut near: Option<Evaluation> = None;
     let mut near_assign = assign.to_vec();
     for &j in drops {
         join_at(smooth.alpha, &mut l, &mut y, &mut a, &kept.segments, j)?;
-        near = without(&near, j);
+        near = Some(without(near.as_ref().unwrap_or(kept), j));
         near_assign.remove(j);
     }
+    let near = near?;
     l.clamp(&mut y, solver.log_kappa);
     // The joined segments: the last drop's left one to the first drop's, less the drops after it.
-    let low = drops.iter().min()? - 1;
-    let high = drops.iter().max()? - drops.len();
+    let low = drops.iter().min()?.checked_sub(1)?;
+    let high = drops.iter().max()?.checked_sub(drops.len())?;
     let window = (
         low.saturating_sub(REMOVAL_REACH),
         (high + REMOVAL_REACH).min(l.n() - 1),
@@ -863,7 +865,7 @@ fn removed(
 /// neighbours', the nearest to zero first.
 ///
 /// Measured over the fixture strokes up to 600 samples and the nine files (g2): 650 → 649 and
-/// 780 → 779 segments for 3 % more instructions (4 766 → 4 892 M); the random planted sweep
+/// 780 → 779 segments for 3 % more instructions (4 766 → 4 906 M); the random planted sweep
 /// 168 → 169 of 200 on whole pixels, the rest as it was. Also trying each neighbour alone: 776
 /// segments on the nine files for 9 % more; without the noise test, 25 % more.
 fn flat_points(
