@@ -8,7 +8,7 @@ mod common;
 
 use common::Rng;
 use common::planted::{
-    distance_between, distances_to, drawn_three_ways, jittered, planted_at, profile_error,
+    Drawn, distance_between, distances_to, drawn_three_ways, jittered, planted_at, profile_error,
     random_chain, samples, segments,
 };
 use kansei::chain::{Chain, Continuity};
@@ -468,18 +468,11 @@ fn a_flat_point_on_a_pixel_grid_comes_back_as_its_two_segments() {
     // same side, on whole pixels. The smooth fit had kept four segments, a curvature minimum of
     // 2.5e-4 /px between joints it could not remove (no log-aesthetic segment spans an
     // extremum); made a zero joint, with both neighbours removed, the planted two come back.
-    let mut rng = Rng::new(1);
-    let mut chains = Vec::new();
-    while chains.len() < 175 {
-        if let Some(chain) = random_chain(&mut rng) {
-            chains.push(chain);
-        }
-    }
-    let truth = &chains[174];
+    let (truth, drawn) = sweep_case(174);
     assert_eq!(truth.len(), 2);
     assert_eq!(truth[0].kappa1(), 0.0, "a flat point");
     assert!(truth[0].kappa0() * truth[1].kappa1() > 0.0, "no inflection");
-    let stroke = drawn_three_ways(truth, 100_074).pixels;
+    let stroke = drawn.pixels;
     let f = fit(&stroke, Units::Px, Continuity::default());
     assert_eq!(f.chains.len(), 1);
     let chain = &f.chains[0];
@@ -487,16 +480,16 @@ fn a_flat_point_on_a_pixel_grid_comes_back_as_its_two_segments() {
     assert_eq!(chain.segments.len(), 2, "as planted");
     assert_eq!(chain.segments[0].segment.kappa1(), 0.0, "a zero joint");
     assert_eq!(chain.segments[1].segment.kappa0(), 0.0, "a zero joint");
-    for (fitted, planted) in chain.segments.iter().zip(truth) {
+    for (fitted, planted) in chain.segments.iter().zip(&truth) {
         let (a, b) = (
             fitted.segment.alpha().expect("a spiral"),
             planted.alpha().expect("a spiral"),
         );
         assert!((a - b).abs() <= 0.1, "α {a} against the planted {b}");
     }
-    let off = distance_between(&f.chains, truth);
+    let off = distance_between(&f.chains, &truth);
     assert!(off <= f.tolerance, "{off} from the planted curve");
-    let profile = profile_error(&f.chains, truth);
+    let profile = profile_error(&f.chains, &truth);
     assert!(profile <= 0.05, "profile {profile} off");
 }
 
@@ -707,18 +700,27 @@ fn a_back_step_of_jitter_on_a_pixel_grid_is_no_corner() {
     // tolerances apart across it, so a fold's legs must be longer than that. The cases: the
     // random sweep's (`examples/planted_sweep.rs 200 1`, the same generator and draws) jittered
     // cases that were cut so, each of which must now come back in one piece.
-    let mut rng = Rng::new(1);
-    let mut chains = Vec::new();
-    while chains.len() < 200 {
-        if let Some(c) = random_chain(&mut rng) {
-            chains.push(c);
-        }
-    }
     for i in [67, 118, 124, 161, 165, 177, 198] {
-        // The sweep draws its two halves on two threads, each numbering its own cases.
-        let k = if i < 100 { i } else { 100_000 + i - 100 };
-        let stroke = drawn_three_ways(&chains[i], k as u64).jittered;
+        let stroke = sweep_case(i).1.jittered;
         let f = fit(&stroke, Units::Px, Continuity::G2);
         assert_eq!(f.chains.len(), 1, "sweep case {i}: cut into pieces");
     }
+}
+
+/// Case `i` (below 200) of the random sweep (`examples/planted_sweep.rs 200 1`: the same
+/// generator and draws): its planted chain and its three drawings.
+fn sweep_case(i: usize) -> (Vec<LacSegment>, Drawn) {
+    let mut rng = Rng::new(1);
+    let mut chains = Vec::new();
+    while chains.len() <= i {
+        if let Some(chain) = random_chain(&mut rng) {
+            chains.push(chain);
+        }
+    }
+    // The sweep draws its two halves on two threads, each numbering its own cases from its
+    // thread's base.
+    let seed = if i < 100 { i } else { 100_000 + i - 100 };
+    let truth = chains.swap_remove(i);
+    let drawn = drawn_three_ways(&truth, seed as u64);
+    (truth, drawn)
 }

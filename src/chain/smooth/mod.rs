@@ -525,6 +525,9 @@ enum Missed {
     /// ([`MIN_RADIUS_TOLERANCES`], [`MAX_TURN_PER_SAMPLE`]): the G1 joint (index in the part,
     /// 1..n) nearest it.
     Bound(usize),
+    /// A round's solve gave no chain: its start met neither the joint equations nor, laid out
+    /// forward, the part's end (see [`Solver::lay_out_from_start`]).
+    Unstarted,
     /// Otherwise (no chain meeting the constraints, or cuts that stopped helping).
     Other,
 }
@@ -547,26 +550,29 @@ fn smooth_part(smooth: &SmoothInput) -> Result<Chain, Missed> {
     // there, at the G1 chain's own (the two sides' geometric mean). A miss against the curvature
     // bound is the samples' (the joint becomes a corner, see [`smooth_chain`]): on the fixture
     // strokes the second start never held where the first missed so, in 11 tries.
-    // Where neither start holds (nor misses against the bound), the first is tried once more
-    // with its chain laid out forward from the start itself where its joint equations cannot
-    // be met ([`Solver::lay_out_from_start`]): at 0.5 px, below the hey stroke's noise floor, a
-    // part of 14 segments failed both starts so and stayed G1.
-    let mut missed = Missed::Other;
+    // Where neither start holds (nor misses against the bound) and the first could not lay a
+    // round's chain out ([`Missed::Unstarted`]), the first is tried once more with its chain
+    // laid out forward from the start itself ([`Solver::lay_out_from_start`]): at 0.5 px, below
+    // the hey stroke's noise floor, a part of 14 segments failed both starts so and stayed G1.
+    // A first start that failed otherwise would fail the same way again.
+    let mut first = None;
     for (start, from_start) in [
         (JointStart::Spline, false),
         (JointStart::Chain, false),
         (JointStart::Spline, true),
     ] {
+        if from_start && first != Some(Missed::Unstarted) {
+            break;
+        }
         match smooth_from(smooth, assign.clone(), start, from_start) {
             Ok(chain) => return Ok(chain),
-            Err(Missed::Bound(j)) => {
-                missed = Missed::Bound(j);
-                break;
+            Err(missed @ Missed::Bound(_)) => return Err(missed),
+            Err(missed) => {
+                first.get_or_insert(missed);
             }
-            Err(_) => {}
         }
     }
-    Err(missed)
+    Err(Missed::Other)
 }
 
 /// Where the joints' curvatures of the starting chain come from (see [`start_layout`]).
@@ -627,7 +633,7 @@ fn smooth_from(
         }
         let started = (round == 0).then(|| (x.clone(), assign.clone()));
         let mut evaluation =
-            solve(&solver, &layout, &mut x, &mut assign, None).ok_or(Missed::Other)?;
+            solve(&solver, &layout, &mut x, &mut assign, None).ok_or(Missed::Unstarted)?;
         // The starting α match the G1 chain's turning (see [`start_layout`]); where the fit
         // ended with such an α pressed on its bound while the G1 chain's own α lies inside,
         // it may sit in a local minimum that the G1 α avoids (a planted S of two clothoids on a
