@@ -527,6 +527,35 @@ fn a_wiggle_the_pixels_cannot_show_is_not_fitted() {
 }
 
 #[test]
+fn a_flat_stroke_end_the_jitter_bends_back_ends_at_zero() {
+    // Case 34 of the random sweep (seed 1; its drawing seeded 34), with 0.3 px of jitter then
+    // rounded: a C whose curvature falls to zero at the stroke's end. The smooth fit had ended
+    // with a third segment past an inflection, bending the other way by less than the
+    // tolerance. Such an end is tried as a zero end without the inflection: the planted two.
+    let (truth, drawn) = sweep_case(34);
+    assert_eq!(truth.len(), 2);
+    assert_eq!(truth[1].kappa1(), 0.0, "a flat end");
+    let f = fit(&drawn.jittered, Units::Px, Continuity::default());
+    assert_eq!(f.chains.len(), 1);
+    let chain = &f.chains[0];
+    assert!(chain.within_tolerance);
+    assert_eq!(chain.continuity, Continuity::G2);
+    assert_eq!(chain.segments.len(), 2, "as planted");
+    let sign = truth[0].kappa0().signum();
+    for s in &chain.segments {
+        let (a, b) = (s.segment.kappa0(), s.segment.kappa1());
+        assert!(
+            a * sign >= 0.0 && b * sign >= 0.0,
+            "no inflection: {a} → {b}"
+        );
+    }
+    let off = distance_between(&f.chains, &truth);
+    assert!(off <= f.tolerance, "{off} from the planted curve");
+    let profile = profile_error(&f.chains, &truth);
+    assert!(profile <= 0.05, "profile {profile} off");
+}
+
+#[test]
 fn a_smooth_chain_that_loops_between_samples_is_not_the_answer() {
     // A random planted chain (the sweep's case 148) on whole pixels: the smooth fit's cut
     // rounds ended with two segments of 465 and 396 px over one sample, every sample within

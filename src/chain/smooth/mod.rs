@@ -777,7 +777,8 @@ fn fewer_joints(
         // the curvature of the curve around it and its two zero joints go (see [`bumps`]).
         let moves = flat_points(&layout, &x, &kept.segments, smooth.tolerance)
             .into_iter()
-            .chain(bumps(&layout, &x, &kept.segments, smooth.tolerance));
+            .chain(bumps(&layout, &x, &kept.segments, smooth.tolerance))
+            .chain(end_flips(&layout, &x, &kept.segments, smooth.tolerance));
         for (reset, drops) in moves {
             let at = reset.joint();
             if failed_move[at] {
@@ -860,7 +861,8 @@ fn removed(
                 j
             }
         };
-        for k in [j.checked_sub(1)?, j] {
+        let n = l.n();
+        for k in (j.saturating_sub(1)..=j).filter(|&k| k < n) {
             set_alpha_bounds(smooth.alpha, &mut l, &mut y, k)?;
         }
     }
@@ -951,6 +953,37 @@ fn flat_points(
     found
         .into_iter()
         .map(|(_, j, drops)| (Reset::Zero(j), drops))
+        .collect()
+}
+
+/// End flips of the chain `x` (its segments `segments`): a part's first or last segment that
+/// leaves a zero joint with the other sign than the segment beyond that joint (an inflection
+/// next to the part's end), each with the end it makes a zero joint and the inflection that
+/// goes. Only a flip within the noise is tried: the end's curvature m over the segment's length
+/// L bends it by at most m·L²/8 off its chord.
+fn end_flips(
+    layout: &Layout,
+    x: &Params,
+    segments: &[LacSegment],
+    tolerance: f64,
+) -> Vec<(Reset, Vec<usize>)> {
+    let n = layout.n();
+    if n < 2 {
+        return Vec::new();
+    }
+    // (end joint, the inflection next to it, the joint beyond, the end's segment)
+    let ends = [(0, 1, 2, 0), (n, n - 1, n - 2, n - 1)];
+    ends.into_iter()
+        .filter(|&(end, zero, beyond, k)| {
+            let sign = layout.sigma[end];
+            let m = layout.kappa(x, end).abs();
+            let length = segments[k].length();
+            sign != 0.0
+                && layout.sigma[zero] == 0.0
+                && layout.sigma[beyond] == -sign
+                && m * length * length / 8.0 <= tolerance
+        })
+        .map(|(end, zero, _, _)| (Reset::Zero(end), vec![zero]))
         .collect()
 }
 
