@@ -716,7 +716,11 @@ fn smooth_from(
 /// do) and kept where every sample is within the tolerance. A joint that could not go is tried
 /// again only after a removal next to it (a removal reshapes its neighbourhood; elsewhere the
 /// chain moves little), so a part of n segments costs about n solves, not n per removal.
-/// `None` where no joint can go.
+/// Where no joint can go as it stands, the curvature's shape is changed where the samples
+/// cannot show it, so that joints can go: a flat point made a zero joint ([`flat_points`]), a
+/// bump between two inflections flattened ([`bumps`]), an inflection next to a part's end
+/// dropped ([`end_flips`]); each is tried like a removal and, where it failed, again only after
+/// a removal next to it. `None` where no joint can go.
 fn fewer_joints(
     smooth: &SmoothInput,
     solver: &mut Solver,
@@ -835,8 +839,8 @@ fn dropped(flags: &mut Vec<bool>, drops: &[usize]) {
 }
 
 /// The solved chain `(layout, x, assign, kept)` with the joints `drops` removed (in decreasing
-/// order, each joining the segments on its two sides) and, first, the joint `zero` made a zero
-/// joint, solved locally ([`REMOVAL_REACH`] segments each side of the joined ones move, the rest
+/// order, each joining the segments on its two sides) and, first, the joint of `reset` made a
+/// zero joint or given its curvature, solved locally ([`REMOVAL_REACH`] segments each side of the joined ones move, the rest
 /// of the part stays and keeps its samples' distances): its chain record, layout, unknowns,
 /// assignment and evaluation where it holds the tolerance (or does after minimax rounds, see
 /// [`holding`]). `None` otherwise.
