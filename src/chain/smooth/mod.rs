@@ -536,9 +536,9 @@ fn without_end_tail(segments: &[ChainSegment], cap: f64) -> Option<Vec<ChainSegm
 
 /// `segment` continued along its own law to the length `length` (ρ^α affine in arc length, or
 /// ρ exponential for α = 0; an arc or a line as it is); `None` for a spiral with a zero
-/// curvature at an end (its law runs out there, or leaves zero as a power this form does not
-/// carry on) and where the law runs out before `length` (a curvature falling to zero within
-/// it, for α < 0).
+/// curvature at either end (left as it is: a curvature that ends at zero cannot go on, and the
+/// rare spiral leaving zero is not worth a special case) and where the law runs out before
+/// `length` (a curvature falling to zero within it, for α < 0).
 fn extended(segment: &LacSegment, length: f64) -> Option<LacSegment> {
     let (k0, k1, l) = (segment.kappa0(), segment.kappa1(), segment.length());
     let kappa = match segment.alpha() {
