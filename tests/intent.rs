@@ -510,18 +510,7 @@ fn a_wiggle_the_pixels_cannot_show_is_not_fitted() {
         "the planted curvature keeps one sign"
     );
     let f = fit(&drawn.pixels, Units::Px, Continuity::default());
-    assert_eq!(f.chains.len(), 1);
-    let chain = &f.chains[0];
-    assert!(chain.within_tolerance);
-    assert_eq!(chain.continuity, Continuity::G2);
-    for s in &chain.segments {
-        // A log-aesthetic segment's curvature is monotonic: its ends bound it.
-        let (a, b) = (s.segment.kappa0(), s.segment.kappa1());
-        assert!(
-            a * sign >= 0.0 && b * sign >= 0.0,
-            "a segment of curvature {a} → {b} in a curve of sign {sign}"
-        );
-    }
+    assert_no_inflection(the_smooth_chain(&f), sign);
     let off = distance_between(&f.chains, &truth);
     assert!(off <= f.tolerance, "{off} from the planted curve");
 }
@@ -536,19 +525,9 @@ fn a_flat_stroke_end_the_jitter_bends_back_ends_at_zero() {
     assert_eq!(truth.len(), 2);
     assert_eq!(truth[1].kappa1(), 0.0, "a flat end");
     let f = fit(&drawn.jittered, Units::Px, Continuity::default());
-    assert_eq!(f.chains.len(), 1);
-    let chain = &f.chains[0];
-    assert!(chain.within_tolerance);
-    assert_eq!(chain.continuity, Continuity::G2);
+    let chain = the_smooth_chain(&f);
     assert_eq!(chain.segments.len(), 2, "as planted");
-    let sign = truth[0].kappa0().signum();
-    for s in &chain.segments {
-        let (a, b) = (s.segment.kappa0(), s.segment.kappa1());
-        assert!(
-            a * sign >= 0.0 && b * sign >= 0.0,
-            "no inflection: {a} → {b}"
-        );
-    }
+    assert_no_inflection(chain, truth[0].kappa0().signum());
     let off = distance_between(&f.chains, &truth);
     assert!(off <= f.tolerance, "{off} from the planted curve");
     let profile = profile_error(&f.chains, &truth);
@@ -564,10 +543,7 @@ fn a_tangle_of_the_starting_chain_at_the_stroke_end_is_not_kept() {
     // before it, extended along its own law to the stroke's end.
     let (truth, drawn) = sweep_case(34);
     let f = fit(&drawn.tablet, Units::Mm, Continuity::default());
-    assert_eq!(f.chains.len(), 1);
-    let chain = &f.chains[0];
-    assert!(chain.within_tolerance);
-    assert_eq!(chain.continuity, Continuity::G2);
+    let chain = the_smooth_chain(&f);
     assert!(
         chain.segments.len() <= truth.len(),
         "{} segments for {}",
@@ -798,6 +774,27 @@ fn a_back_step_of_jitter_on_a_pixel_grid_is_no_corner() {
         let stroke = sweep_case(i).1.jittered;
         let f = fit(&stroke, Units::Px, Continuity::G2);
         assert_eq!(f.chains.len(), 1, "sweep case {i}: cut into pieces");
+    }
+}
+
+/// The one chain of `f`, asserted within its tolerance and G2 throughout.
+fn the_smooth_chain(f: &Fitted) -> &Chain {
+    assert_eq!(f.chains.len(), 1);
+    let chain = &f.chains[0];
+    assert!(chain.within_tolerance);
+    assert_eq!(chain.continuity, Continuity::G2);
+    chain
+}
+
+/// Asserts that no segment of `chain` bends against `sign` (a log-aesthetic segment's
+/// curvature is monotonic: its ends bound it).
+fn assert_no_inflection(chain: &Chain, sign: f64) {
+    for s in &chain.segments {
+        let (a, b) = (s.segment.kappa0(), s.segment.kappa1());
+        assert!(
+            a * sign >= 0.0 && b * sign >= 0.0,
+            "a segment of curvature {a} → {b} in a curve of sign {sign}"
+        );
     }
 }
 

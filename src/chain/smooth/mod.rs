@@ -1020,7 +1020,7 @@ fn flat_points(
     tolerance: f64,
 ) -> Vec<(Reset, Vec<usize>)> {
     let n = layout.n();
-    let mut found: Vec<(f64, usize, Vec<usize>)> = (1..n)
+    let found = (1..n)
         .filter_map(|j| {
             let sign = layout.sigma[j];
             if sign == 0.0 || layout.sigma[j - 1] != sign || layout.sigma[j + 1] != sign {
@@ -1035,7 +1035,7 @@ fn flat_points(
                 return None;
             }
             let span = segments[j - 1].length() + segments[j].length();
-            if !(m * span * span / 8.0 <= tolerance) {
+            if !(sagitta(m, span) <= tolerance) {
                 return None;
             }
             let drops = match (j >= 2, j + 1 < n) {
@@ -1044,13 +1044,27 @@ fn flat_points(
                 (true, false) => vec![j - 1],
                 (false, false) => return None,
             };
-            Some((m / a.min(b), j, drops))
+            Some((m / a.min(b), Reset::Zero(j), drops))
         })
         .collect();
+    ordered(found)
+}
+
+/// How far a curvature of magnitude `kappa` over a stretch of `length` bends it off its chord:
+/// the sagitta κ·L²/8 (to first order). A shape move ([`flat_points`], [`bumps`],
+/// [`end_flips`]) is tried only where the curvature it takes away bends its stretch by no
+/// more than the tolerance: beyond it the samples show the curvature.
+fn sagitta(kappa: f64, length: f64) -> f64 {
+    kappa.abs() * length * length / 8.0
+}
+
+/// Shape moves (a [`Reset`] and the joints that go with it) ordered by their key, the smallest
+/// first.
+fn ordered(mut found: Vec<(f64, Reset, Vec<usize>)>) -> Vec<(Reset, Vec<usize>)> {
     found.sort_by(|p, q| p.0.total_cmp(&q.0));
     found
         .into_iter()
-        .map(|(_, j, drops)| (Reset::Zero(j), drops))
+        .map(|(_, reset, drops)| (reset, drops))
         .collect()
 }
 
@@ -1074,12 +1088,10 @@ fn end_flips(
     ends.into_iter()
         .filter(|&(end, zero, beyond, k)| {
             let sign = layout.sigma[end];
-            let m = layout.kappa(x, end).abs();
-            let length = segments[k].length();
             sign != 0.0
                 && layout.sigma[zero] == 0.0
                 && layout.sigma[beyond] == -sign
-                && m * length * length / 8.0 <= tolerance
+                && sagitta(layout.kappa(x, end), segments[k].length()) <= tolerance
         })
         .map(|(end, zero, _, _)| (Reset::Zero(end), vec![zero]))
         .collect()
@@ -1126,7 +1138,7 @@ fn bumps(
     tolerance: f64,
 ) -> Vec<(Reset, Vec<usize>)> {
     let n = layout.n();
-    let mut found: Vec<(f64, Reset, Vec<usize>)> = (2..n.saturating_sub(1))
+    let found = (2..n.saturating_sub(1))
         .filter_map(|j| {
             let outside = layout.sigma[j - 2];
             if outside == 0.0
@@ -1137,9 +1149,8 @@ fn bumps(
             {
                 return None;
             }
-            let m = layout.kappa(x, j).abs();
             let span = segments[j - 1].length() + segments[j].length();
-            let bend = m * span * span / 8.0;
+            let bend = sagitta(layout.kappa(x, j), span);
             if !(bend <= tolerance) {
                 return None;
             }
@@ -1150,11 +1161,7 @@ fn bumps(
             Some((bend, Reset::Curvature(j, kappa), vec![j + 1, j - 1]))
         })
         .collect();
-    found.sort_by(|p, q| p.0.total_cmp(&q.0));
-    found
-        .into_iter()
-        .map(|(_, reset, drops)| (reset, drops))
-        .collect()
+    ordered(found)
 }
 
 /// `e` with segment `j` taken out (its entries of every list), as the evaluation near a chain
