@@ -564,6 +564,33 @@ fn a_tangle_of_the_starting_chain_at_the_stroke_end_is_not_kept() {
 }
 
 #[test]
+fn a_sparse_jittered_diagonal_is_not_read_as_a_bare_grid() {
+    // Case 194 of the random sweep with 0.3 px of jitter then rounded: one segment running
+    // diagonally in steps of a pixel in each coordinate. No coordinate turned back between two
+    // moves that run more along it than across (on a diagonal neither does), and σ (0.386 px)
+    // lay within what a bare staircase reads, so the floor stayed the grid's 0.71 px, below
+    // the jitter's excursions (the planted curve 1.05 px from a sample), and the fit chased them
+    // in 24 segments. Its x turns back twice where the stroke runs along x as much as along y:
+    // jitter, since rounding a smooth curve never does that. One segment now, as planted (its
+    // curvature profile 17 % off the planted one, but nearer its samples than the planted
+    // curve: the samples cannot tell).
+    let (truth, drawn) = sweep_case(194);
+    assert_eq!(truth.len(), 1);
+    let f = fit(&drawn.jittered, Units::Px, Continuity::default());
+    let chain = the_smooth_chain(&f);
+    assert_eq!(chain.segments.len(), 1, "tolerance {}", f.tolerance);
+    // Above the bare grid's floor, within what the noise asks (σ across the curve √(0.3² + 1/12)).
+    let true_sigma = (0.09f64 + 1.0 / 12.0).sqrt();
+    assert!(
+        f.tolerance > std::f64::consts::FRAC_1_SQRT_2 && f.tolerance <= 3.0 * true_sigma,
+        "tolerance {}",
+        f.tolerance
+    );
+    let off = distance_between(&f.chains, &truth);
+    assert!(off <= f.tolerance, "{off} from the planted curve");
+}
+
+#[test]
 fn a_smooth_chain_that_loops_between_samples_is_not_the_answer() {
     // A random planted chain (the sweep's case 148) on whole pixels: the smooth fit's cut
     // rounds ended with two segments of 465 and 396 px over one sample, every sample within

@@ -33,12 +33,13 @@
 //! only rounded, the grid's worst rounding `q·√2/2` (the true curve is within it of every
 //! sample); where there is jitter, the larger of that and the largest excursion `n` samples of
 //! the noise reach ([`noise_multiple`], `√(2·ln n)` times σ). A grid's samples are jittered
-//! before rounding where the coordinate that moves most reverses its direction
-//! ([`JITTER_REVERSALS`]; rounding is monotone, so it never does on a smooth curve), or where σ
-//! stands clear of the staircase a grid alone reads ([`GRID_STAIRCASE_RATIO`]). The true curve
+//! before rounding where a coordinate turns back while the stroke runs along its axis
+//! ([`JITTER_REVERSALS`]; rounding is monotone, so on a smooth curve a coordinate turns back
+//! only where the tangent is perpendicular to its axis), or where σ stands clear of the
+//! staircase a grid alone reads ([`GRID_STAIRCASE_RATIO`]). The true curve
 //! then lies within the tolerance of (nearly) every sample, so the fit need not chase any.
 
-use crate::geom::Point;
+use crate::geom::{Point, Vec2};
 
 /// Samples per window of the local quadratic fits: the fewest that leave the middle sample a
 /// residual to measure (its leverage is about 1/2). In a symmetric window the curve's cubic
@@ -99,8 +100,8 @@ pub const GRID_DECORRELATION_STEPS: f64 = 2.0;
 /// sawtooth along the curve), not independent noise, and the local fits read part of it as more
 /// noise. Measured on noise-free planted curves on a whole-pixel grid sampled every 0.25 to
 /// 2.7 px (after thinning): σ from 0.8 to 1.45 times `q/√12`. Beyond it there is jitter. Within
-/// it there may be too (0.3 px of jitter reads 1.03 to 1.9 times `q/√12`): reversals of the
-/// coordinate that moves most tell ([`JITTER_REVERSALS`]).
+/// it there may be too (0.3 px of jitter reads 1.03 to 1.9 times `q/√12`): a coordinate
+/// turning back while the stroke runs along its axis tells ([`JITTER_REVERSALS`]).
 pub const GRID_STAIRCASE_RATIO: f64 = 1.5;
 
 /// Fewest standardised residuals for a jitter estimate (a stroke of fewer samples gets none).
@@ -142,7 +143,7 @@ impl NoiseFloor {
             ),
             None => jitter_sigma(std::slice::from_ref(&distinct), 0.0),
         };
-        let reversed = grid.is_some() && reversals(&distinct) >= JITTER_REVERSALS;
+        let reversed = grid.is_some_and(|q| reversals(&distinct, q) >= JITTER_REVERSALS);
         let floor = floor_of(grid, sigma, distinct.len(), reversed);
         NoiseFloor { grid, sigma, floor }
     }
@@ -175,29 +176,95 @@ pub fn noise_multiple(samples: usize) -> f64 {
     (2.0 * n.ln()).sqrt().max(NOISE_MULTIPLE)
 }
 
-/// Fewest reversals that show jitter on a grid: the coordinate that moves more turning back between
-/// consecutive distinct samples (each move at least as long along it as across it). Rounded
-/// noise-free planted curves (60 random chains sampled every 0.3, 0.9 and 2.7 px) show none; 0.3 px
-/// of jitter shows hundreds on dense strokes and a few on sparse ones (at 2.7 px between samples
-/// some show none, and only σ can tell).
-pub const JITTER_REVERSALS: usize = 3;
+/// Fewest reversals that show jitter on a grid ([`reversals`]). Rounding is monotone, so a
+/// coordinate of a rounded smooth curve turns back only where the curve does: where its tangent
+/// is perpendicular to that axis. Over 300 random planted chains rounded without jitter and
+/// sampled every 0.3, 0.6, 0.9, 1.4, 2 and 2.7 px, no stroke showed more than one; with 0.3 px
+/// of jitter, two or more showed on every stroke sampled every 0.9 px or closer, on 248 of 300
+/// at 1.4 px, 63 at 2 px
+/// and 10 at 2.7 px, where only σ can tell.
+pub const JITTER_REVERSALS: usize = 2;
 
-/// How many times a coordinate reverses its direction while it is the one moving more: for
-/// consecutive distinct points a, b, c, the moves b − a and c − b along an axis nonzero and of
-/// opposite signs, each at least as long along that axis as across it. Rounding is monotone,
-/// so rounding a smooth curve never does it: where a coordinate turns back, the curve moves
-/// mostly along the other axis. Jitter of a fraction of the grid's step does it at every few
-/// samples of a dense stroke.
-fn reversals(points: &[Point]) -> usize {
-    points
-        .windows(3)
-        .map(|w| {
-            let (u, v) = (w[1] - w[0], w[2] - w[1]);
-            let x = u.x * v.x < 0.0 && u.x.abs() >= u.y.abs() && v.x.abs() >= v.y.abs();
-            let y = u.y * v.y < 0.0 && u.y.abs() >= u.x.abs() && v.y.abs() >= v.x.abs();
-            usize::from(x) + usize::from(y)
-        })
-        .sum()
+/// How far either side of a reversal, in grid steps, the chord that says which way the stroke
+/// runs there reaches ([`reversals`]): far enough that rounding moves its direction by a few
+/// degrees at most (two ends a pixel off over eight pixels), near enough that a pen curve turns
+/// little over it.
+pub const REVERSAL_REACH_STEPS: f64 = 4.0;
+
+/// A reversal of one coordinate counts where the chord around it moves along that axis at least
+/// this share of its move across it ([`reversals`]): its direction is then more than 16.7° from
+/// the perpendicular, where a smooth curve would have to be for the coordinate to turn back (the
+/// chord of a stretch around a tangent perpendicular to the axis runs nearly perpendicular to it).
+pub const REVERSAL_ALONG_RATIO: f64 = 0.3;
+
+/// How many times a coordinate turns back (consecutive nonzero moves along its axis of opposite
+/// signs, between consecutive distinct points) where a rounded smooth curve could not: either
+/// both moves run at least as far along the axis as across it (the coordinate that moves more
+/// turns back), or the chord from [`REVERSAL_REACH_STEPS`] grid steps before the reversal to as
+/// far after it runs along the axis at least [`REVERSAL_ALONG_RATIO`] times as far as across (the
+/// stroke there runs clearly along the axis, as on a diagonal drawn in steps of a pixel in each
+/// coordinate, where no move runs more along one axis than the other). Jitter of a fraction of
+/// the grid's step turns a coordinate back every few samples of a dense stroke.
+fn reversals(points: &[Point], grid: f64) -> usize {
+    let reach = REVERSAL_REACH_STEPS * grid;
+    let mut count = 0;
+    for axis in [Axis::X, Axis::Y] {
+        // The last nonzero move along the axis: where it starts, and the move.
+        let mut last: Option<(usize, Vec2)> = None;
+        for i in 0..points.len().saturating_sub(1) {
+            let step = points[i + 1] - points[i];
+            if axis.along(step) == 0.0 {
+                continue;
+            }
+            if let Some((j, before)) = last
+                && axis.along(before) * axis.along(step) < 0.0
+            {
+                let mostly = |v: Vec2| axis.along(v).abs() >= axis.across(v).abs();
+                let immediate = i == j + 1 && mostly(before) && mostly(step);
+                let mut lo = j;
+                while lo > 0 && points[lo].distance(points[j]) < reach {
+                    lo -= 1;
+                }
+                let mut hi = i + 1;
+                while hi + 1 < points.len() && points[hi].distance(points[i + 1]) < reach {
+                    hi += 1;
+                }
+                let chord = points[hi] - points[lo];
+                let along_chord =
+                    axis.along(chord).abs() >= REVERSAL_ALONG_RATIO * axis.across(chord).abs();
+                if immediate || along_chord {
+                    count += 1;
+                }
+            }
+            last = Some((i, step));
+        }
+    }
+    count
+}
+
+/// A coordinate axis of the plane.
+#[derive(Clone, Copy)]
+enum Axis {
+    X,
+    Y,
+}
+
+impl Axis {
+    /// A vector's component along the axis.
+    fn along(self, v: Vec2) -> f64 {
+        match self {
+            Axis::X => v.x,
+            Axis::Y => v.y,
+        }
+    }
+
+    /// A vector's component across the axis.
+    fn across(self, v: Vec2) -> f64 {
+        match self {
+            Axis::X => v.y,
+            Axis::Y => v.x,
+        }
+    }
 }
 
 /// The points split into k interleaved runs (every k-th point, from each of the first k), k the
