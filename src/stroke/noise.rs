@@ -176,26 +176,28 @@ pub fn noise_multiple(samples: usize) -> f64 {
     (2.0 * n.ln()).sqrt().max(NOISE_MULTIPLE)
 }
 
-/// Fewest reversals that show jitter on a grid ([`reversals`]). Rounding is monotone, so a
-/// coordinate of a rounded smooth curve turns back only where the curve does: where its tangent
-/// is perpendicular to that axis. Over 300 random planted chains rounded without jitter and
-/// sampled every 0.3, 0.6, 0.9, 1.4, 2 and 2.7 px, no stroke showed more than one; with 0.3 px
-/// of jitter, two or more showed on every stroke sampled every 0.9 px or closer, on 248 of 300
-/// at 1.4 px, 63 at 2 px
-/// and 10 at 2.7 px, where only σ can tell.
+/// Fewest reversals that show jitter on a grid: a coordinate turning back where the stroke runs
+/// along its axis (between two moves that each run more along it than across, or where the chord
+/// from four grid steps before the reversal to four after runs along the axis at least 0.3 times
+/// as far as across). Rounding is monotone, so a coordinate of a rounded smooth curve turns back
+/// only where the curve does: where its tangent is perpendicular to that axis. Over 300 random
+/// planted chains rounded without jitter and sampled every 0.3, 0.6, 0.9, 1.4, 2 and 2.7 px, no
+/// stroke showed more than one; with 0.3 px of jitter, two or more showed on every stroke sampled
+/// every 0.9 px or closer, on 248 of 300 at 1.4 px, 63 at 2 px and 10 at 2.7 px, where only σ
+/// can tell.
 pub const JITTER_REVERSALS: usize = 2;
 
 /// How far either side of a reversal, in grid steps, the chord that says which way the stroke
 /// runs there reaches ([`reversals`]): far enough that rounding moves its direction by a few
 /// degrees at most (two ends a pixel off over eight pixels), near enough that a pen curve turns
 /// little over it.
-pub const REVERSAL_REACH_STEPS: f64 = 4.0;
+const REVERSAL_REACH_STEPS: f64 = 4.0;
 
 /// A reversal of one coordinate counts where the chord around it moves along that axis at least
 /// this share of its move across it ([`reversals`]): its direction is then more than 16.7° from
 /// the perpendicular, where a smooth curve would have to be for the coordinate to turn back (the
 /// chord of a stretch around a tangent perpendicular to the axis runs nearly perpendicular to it).
-pub const REVERSAL_ALONG_RATIO: f64 = 0.3;
+const REVERSAL_ALONG_RATIO: f64 = 0.3;
 
 /// How many times a coordinate turns back (consecutive nonzero moves along its axis of opposite
 /// signs, between consecutive distinct points) where a rounded smooth curve could not: either
