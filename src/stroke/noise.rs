@@ -199,6 +199,12 @@ const REVERSAL_REACH_STEPS: f64 = 4.0;
 /// chord of a stretch around a tangent perpendicular to the axis runs nearly perpendicular to it).
 const REVERSAL_ALONG_RATIO: f64 = 0.3;
 
+/// Most samples the chord of [`reversals`] reaches over on either side: a pen resting in place
+/// leaves any number of samples within [`REVERSAL_REACH_STEPS`] of one point, and walking them
+/// all for each of its reversals would cost the square of their count. At the closest spacing
+/// measured (0.3 px) four steps hold about fourteen samples; 64 leave those untouched.
+const REVERSAL_MAX_SAMPLES: usize = 64;
+
 /// How many times a coordinate turns back (consecutive nonzero moves along its axis of opposite
 /// signs, between consecutive distinct points) where a rounded smooth curve could not: either
 /// both moves run at least as far along the axis as across it (the coordinate that moves more
@@ -224,11 +230,17 @@ fn reversals(points: &[Point], grid: f64) -> usize {
                 let mostly = |v: Vec2| axis.along(v).abs() >= axis.across(v).abs();
                 let immediate = i == j + 1 && mostly(before) && mostly(step);
                 let mut lo = j;
-                while lo > 0 && points[lo].distance(points[j]) < reach {
+                while lo > 0
+                    && j - lo < REVERSAL_MAX_SAMPLES
+                    && points[lo].distance(points[j]) < reach
+                {
                     lo -= 1;
                 }
                 let mut hi = i + 1;
-                while hi + 1 < points.len() && points[hi].distance(points[i + 1]) < reach {
+                while hi + 1 < points.len()
+                    && hi - (i + 1) < REVERSAL_MAX_SAMPLES
+                    && points[hi].distance(points[i + 1]) < reach
+                {
                     hi += 1;
                 }
                 let chord = points[hi] - points[lo];
