@@ -205,8 +205,9 @@ const REVERSAL_ALONG_RATIO: f64 = 0.3;
 /// measured (0.3 px) four steps hold about fourteen samples; 64 leave those untouched.
 const REVERSAL_MAX_SAMPLES: usize = 64;
 
-/// How many times a coordinate turns back (consecutive nonzero moves along its axis of opposite
-/// signs, between consecutive distinct points) where a rounded smooth curve could not: either
+/// How many times, counted up to [`JITTER_REVERSALS`] (all the floor asks), a coordinate turns
+/// back (consecutive nonzero moves along its axis of opposite signs, between consecutive
+/// distinct points) where a rounded smooth curve could not: either
 /// both moves run at least as far along the axis as across it (the coordinate that moves more
 /// turns back), or the chord from [`REVERSAL_REACH_STEPS`] grid steps before the reversal to as
 /// far after it runs along the axis at least [`REVERSAL_ALONG_RATIO`] times as far as across (the
@@ -229,31 +230,36 @@ fn reversals(points: &[Point], grid: f64) -> usize {
             {
                 let mostly = |v: Vec2| axis.along(v).abs() >= axis.across(v).abs();
                 let immediate = i == j + 1 && mostly(before) && mostly(step);
-                let mut lo = j;
-                while lo > 0
-                    && j - lo < REVERSAL_MAX_SAMPLES
-                    && points[lo].distance(points[j]) < reach
-                {
-                    lo -= 1;
-                }
-                let mut hi = i + 1;
-                while hi + 1 < points.len()
-                    && hi - (i + 1) < REVERSAL_MAX_SAMPLES
-                    && points[hi].distance(points[i + 1]) < reach
-                {
-                    hi += 1;
-                }
-                let chord = points[hi] - points[lo];
-                let along_chord =
-                    axis.along(chord).abs() >= REVERSAL_ALONG_RATIO * axis.across(chord).abs();
-                if immediate || along_chord {
+                if immediate || along_chord(points, axis, j, i + 1, reach) {
                     count += 1;
+                    if count >= JITTER_REVERSALS {
+                        return count;
+                    }
                 }
             }
             last = Some((i, step));
         }
     }
     count
+}
+
+/// Whether the chord from [`REVERSAL_REACH_STEPS`] grid steps (`reach`) before point `from` to as
+/// far after point `to` runs along `axis` at least [`REVERSAL_ALONG_RATIO`] times as far as
+/// across it.
+fn along_chord(points: &[Point], axis: Axis, from: usize, to: usize, reach: f64) -> bool {
+    let mut lo = from;
+    while lo > 0 && from - lo < REVERSAL_MAX_SAMPLES && points[lo].distance(points[from]) < reach {
+        lo -= 1;
+    }
+    let mut hi = to;
+    while hi + 1 < points.len()
+        && hi - to < REVERSAL_MAX_SAMPLES
+        && points[hi].distance(points[to]) < reach
+    {
+        hi += 1;
+    }
+    let chord = points[hi] - points[lo];
+    axis.along(chord).abs() >= REVERSAL_ALONG_RATIO * axis.across(chord).abs()
 }
 
 /// A coordinate axis of the plane.

@@ -934,8 +934,9 @@ fn dropped(flags: &mut Vec<bool>, drops: &[usize]) {
 
 /// The solved chain `(layout, x, assign, kept)` with the joints `drops` removed (in decreasing
 /// order, each joining the segments on its two sides) and, first, the joint of `reset` made a
-/// zero joint or given its curvature, solved locally ([`REMOVAL_REACH`] segments each side of the joined ones move, the rest
-/// of the part stays and keeps its samples' distances): its chain record, layout, unknowns,
+/// zero joint or given its curvature, solved locally ([`REMOVAL_REACH`] segments each side of
+/// the joined ones move, the rest of the part stays and keeps its samples' distances): its
+/// chain record, layout, unknowns,
 /// assignment and evaluation where it holds the tolerance (or does after minimax rounds, see
 /// [`holding`]). `None` otherwise.
 #[allow(clippy::type_complexity)]
