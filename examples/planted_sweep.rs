@@ -16,9 +16,8 @@
 #[path = "../tests/common/mod.rs"]
 mod common;
 
-use common::Rng;
 use common::planted::{
-    distance_between, distances_to, drawn_three_ways, profile_error, random_chain, segments,
+    distance_between, distances_to, drawn_three_ways, profile_error, random_chains, segments,
 };
 use kansei::lac::LacSegment;
 use kansei::pipeline::{PipelineOptions, StrokeOutcome, fit_with_noise};
@@ -113,13 +112,7 @@ fn main() {
     let args: Vec<String> = std::env::args().collect();
     let cases: usize = args.get(1).and_then(|a| a.parse().ok()).unwrap_or(200);
     let seed: u64 = args.get(2).and_then(|a| a.parse().ok()).unwrap_or(1);
-    let mut rng = Rng::new(seed);
-    let mut chains = Vec::new();
-    while chains.len() < cases {
-        if let Some(c) = random_chain(&mut rng) {
-            chains.push(c);
-        }
-    }
+    let chains = random_chains(seed, cases);
     let kinds = ["pixels", "jitter 0.3 px + pixels", "tablet 0.02 mm"];
     let dump = args.get(3).map(std::path::PathBuf::from);
     let results: Vec<Vec<(Vec<String>, Option<String>)>> = std::thread::scope(|scope| {

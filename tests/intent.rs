@@ -9,7 +9,7 @@ mod common;
 use common::Rng;
 use common::planted::{
     Drawn, distance_between, distances_to, drawn_three_ways, jittered, planted_at, profile_error,
-    random_chain, samples, segments,
+    random_chains, samples, segments,
 };
 use kansei::chain::{Chain, Continuity, JointKind};
 use kansei::geom::{Point, Vec2};
@@ -828,13 +828,7 @@ fn assert_no_inflection(chain: &Chain, sign: f64) {
 /// Case `i` (below 200) of the random sweep (`examples/planted_sweep.rs 200 1`: the same
 /// generator and draws): its planted chain and its three drawings.
 fn sweep_case(i: usize) -> (Vec<LacSegment>, Drawn) {
-    let mut rng = Rng::new(1);
-    let mut chains = Vec::new();
-    while chains.len() <= i {
-        if let Some(chain) = random_chain(&mut rng) {
-            chains.push(chain);
-        }
-    }
+    let mut chains = random_chains(1, i + 1);
     // The sweep draws its two halves on two threads, each numbering its own cases from its
     // thread's base.
     let seed = if i < 100 { i } else { 100_000 + i - 100 };

@@ -206,13 +206,7 @@ fn a_sparse_jittered_stroke_is_told_from_a_rounded_one() {
     // the grid's floor (it was never farther from its curve than q·√2/2); most jittered ones are
     // read as jittered (53 of these 60, 248 of 300 chains; counting only the coordinate that
     // moves more turning back between two moves, and three such, read 43 of these 60).
-    let mut rng = Rng::new(7);
-    let mut chains = Vec::new();
-    while chains.len() < 60 {
-        if let Some(chain) = common::planted::random_chain(&mut rng) {
-            chains.push(chain);
-        }
-    }
+    let chains = common::planted::random_chains(7, 60);
     let mut jittered_read = 0;
     for (k, truth) in chains.iter().enumerate() {
         let total: f64 = truth.iter().map(|s| s.length()).sum();

@@ -143,6 +143,19 @@ pub fn jittered(chain: &[LacSegment], n: usize, sigma: f64, seed: u64) -> Stroke
 /// itself and "nearest point" comparisons stop meaning the same place.
 pub const MAX_TURNING: f64 = 5.0;
 
+/// The first `count` chains [`random_chain`] draws from a generator seeded `seed` (the draws it
+/// refuses skipped): the random sweep's cases (`examples/planted_sweep.rs`, seed 1).
+pub fn random_chains(seed: u64, count: usize) -> Vec<Vec<LacSegment>> {
+    let mut rng = Rng::new(seed);
+    let mut chains = Vec::with_capacity(count);
+    while chains.len() < count {
+        if let Some(chain) = random_chain(&mut rng) {
+            chains.push(chain);
+        }
+    }
+    chains
+}
+
 /// A random planted chain in pixels, G2 throughout: one to three segments of 80 to 200 px, α
 /// uniform in [−1.5, 2.5], curvatures 0.003 to 0.03 /px changing 1.5 to 4 times per segment (at
 /// most 0.04 /px), a quarter of the segments running into a curvature zero (α < 0) and the one
