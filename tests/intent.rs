@@ -836,3 +836,28 @@ fn sweep_case(i: usize) -> (Vec<LacSegment>, Drawn) {
     let drawn = drawn_three_ways(&truth, seed as u64);
     (truth, drawn)
 }
+
+#[test]
+fn a_polish_slides_its_joints_to_the_planted_curvature_profile() {
+    // Cases of the random sweep (seed 1) with 0.3 px of jitter then rounded, each two planted
+    // segments that the smooth fit found as two, within the tolerance, whose curvature profile
+    // stayed 5.0 % to 7.4 % off the planted one: the polish towards the least-squares chain
+    // crawled, a joint moving about a sample per step, because a sample past a joint measured
+    // against the segment's end point has a kink where the end passes it. Measured against the
+    // segment's extension there (which a G2 joint's neighbour follows to third order), the
+    // polish reaches the minimum: within 2.5 % of the planted profile.
+    for case in [1, 11, 29, 54] {
+        let (truth, drawn) = sweep_case(case);
+        assert_eq!(truth.len(), 2);
+        let f = fit(&drawn.jittered, Units::Px, Continuity::default());
+        let chain = the_smooth_chain(&f);
+        assert_eq!(chain.segments.len(), 2, "case {case}: as planted");
+        let off = distance_between(&f.chains, &truth);
+        assert!(
+            off <= f.tolerance,
+            "case {case}: {off} from the planted curve"
+        );
+        let profile = profile_error(&f.chains, &truth);
+        assert!(profile <= 0.025, "case {case}: profile {profile} off");
+    }
+}

@@ -100,7 +100,11 @@ pub(super) fn shooting_jacobian(
         .segments
         .iter()
         .zip(&e.feet)
-        .map(|(seg, feet)| crate::lac::deviation::points_at(seg, feet))
+        .map(|(seg, feet)| {
+            let mut out = Vec::new();
+            super::solver::points_on(seg, feet, &mut out);
+            out
+        })
         .collect();
     // Without C3 rows, a length's column follows from the joints' (below): no construction.
     let scaled = |var: Var| matches!(var, Var::Length(_)) && !solver.c3;
@@ -140,7 +144,7 @@ pub(super) fn shooting_jacobian(
                 let ratio = seg.length() / e.segments[k].length();
                 feet.clear();
                 feet.extend(e.feet[k].iter().map(|s| s * ratio));
-                crate::lac::deviation::points_at_into(&seg, &feet, &mut moved);
+                super::solver::points_on(&seg, &feet, &mut moved);
                 for ((m, ((_, nrm), f)), &p) in rows.zip(&moved) {
                     jr[(offsets[k] + m, col)] = -nrm.dot((p - *f) / DIFFERENCE_STEP);
                 }

@@ -710,9 +710,14 @@ pub(super) fn solve(
             segments
         }
     };
+    // The polish iterates on the joints' extensions (see [`Solver::extend`]); the answer is
+    // measured against its own segments.
+    let extend = solver.extend.replace(solver.polish);
     let mut e = solver.evaluate(segments, assign, near);
     reassigned(solver, &mut e, assign);
-    levenberg_marquardt(solver, layout, x, assign, &mut e)?;
+    let solved = levenberg_marquardt(solver, layout, x, assign, &mut e);
+    solver.extend.set(extend);
+    solved?;
     let (_, segments) = laid_forward(solver, layout, x, &c3_joints)?;
     // The forward chain is the solution's to the joints' gaps (a tenth of the tolerance): each
     // foot is polished from the solution's own, not searched for again along the whole

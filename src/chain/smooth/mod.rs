@@ -44,7 +44,11 @@
 //! segments, differenced at the samples' foot points (a pose's columns are those of a rigid
 //! motion, and a length's follows from the curvatures' by a scaling identity). Samples near a joint
 //! are handed to the neighbour that is nearer after every accepted step: a joint slides along the
-//! data as the fit moves it.
+//! data as the fit moves it. In the polish towards the least-squares chain, a sample past its
+//! segment's end at a joint is measured against the segment's second-order extension there,
+//! which the next segment follows to third order at a G2 joint: its distance then changes
+//! smoothly as the joint slides past it, where against the end point it has a kink that kept
+//! the polish to about a sample per step (`solver.rs`, `EndPose`).
 //!
 //! Starting point: the G1 chain (its joints' poses, lengths and α). A joint's curvature starts
 //! at the B-spline's there (the G1 chain's two sides differ, the C2 B-spline within the
@@ -718,6 +722,7 @@ fn smooth_from(
         tolerance: smooth.tolerance,
         window: None,
         lay_out_from_start,
+        extend: std::cell::Cell::new(false),
     };
     layout.clamp(&mut x, solver.log_kappa);
     let (mut best_worst, mut stalled) = (f64::INFINITY, 0);

@@ -49,6 +49,10 @@ pub(super) struct Solver<'a> {
     /// the joint equations, but a segment may wind beyond its bound there, and the layout then
     /// fails with it.
     pub(super) lay_out_from_start: bool,
+    /// Whether a sample beyond a segment's end at an interior joint is measured against the
+    /// segment's second-order extension there rather than its end point (see [`extend_feet`]):
+    /// set while the polish ([`Solver::polish`]) iterates, never for a chain's final measure.
+    pub(super) extend: std::cell::Cell<bool>,
 }
 
 impl Solver<'_> {
@@ -135,7 +139,17 @@ impl Solver<'_> {
             segments,
         };
         for (k, list) in assign.iter().enumerate() {
-            let (residuals, feet, foot_points) = self.distances_of(&e.segments[k], k, list, near);
+            let (mut residuals, mut feet, mut foot_points) =
+                self.distances_of(&e.segments[k], k, list, near);
+            if self.extend.get() {
+                let ends = (k > 0, k + 1 < n);
+                extend_feet(
+                    &e.segments[k],
+                    ends,
+                    &self.points_of(list),
+                    (&mut residuals, &mut feet, &mut foot_points),
+                );
+            }
             e.cost += residuals
                 .iter()
                 .zip(list)
@@ -172,6 +186,8 @@ impl Solver<'_> {
                 old.foot_points.get(k),
             )
             && residuals.len() == list.len()
+            // Feet on an extension are the iteration's measure, not the chain's.
+            && (self.extend.get() || feet.iter().all(|&f| (0.0..=seg.length()).contains(&f)))
         {
             return (residuals.clone(), feet.clone(), foot_points.clone());
         }
@@ -327,6 +343,124 @@ pub(super) fn worst_sample(own: &[Vec<f64>]) -> (f64, Option<usize>) {
     best
 }
 
+/// One end of a segment as its extension starts from it: the end point, tangent angle and
+/// signed curvature there.
+#[derive(Clone, Copy, Debug)]
+pub(super) struct EndPose {
+    point: Point,
+    theta: f64,
+    kappa: f64,
+}
+
+impl EndPose {
+    /// Segment `seg`'s end (`at_end`) or start.
+    pub(super) fn of(seg: &LacSegment, at_end: bool) -> Self {
+        if at_end {
+            EndPose {
+                point: seg.end(),
+                theta: seg.theta1(),
+                kappa: seg.kappa1(),
+            }
+        } else {
+            EndPose {
+                point: seg.start(),
+                theta: seg.theta0(),
+                kappa: seg.kappa0(),
+            }
+        }
+    }
+
+    /// The point of the second-order extension at `t` along it (beyond the segment's end for
+    /// `t` > 0 from its end, before its start for `t` < 0 from its start),
+    /// E(t) = P + T·t + N·κ·t²/2, its derivative E′(t) = T + N·κ·t, and N the left normal.
+    fn at(self, t: f64) -> (Point, Vec2) {
+        let (sin, cos) = self.theta.sin_cos();
+        let (tangent, left) = (Vec2::new(cos, sin), Vec2::new(-sin, cos));
+        (
+            self.point + tangent * t + left * (0.5 * self.kappa * t * t),
+            tangent + left * (self.kappa * t),
+        )
+    }
+
+    /// The foot of `q` on the extension by Newton's method on (E(t) − q)·E′(t) = 0 from its
+    /// projection on the tangent: `t` and the foot point with the extension's left normal
+    /// there, or `None` where the foot is not beyond the segment (`beyond`: the sign of `t`
+    /// there, + past the end, − before the start) or the iteration leaves its basin.
+    fn foot(self, q: Point, beyond: f64) -> Option<(f64, Point, Vec2)> {
+        let (sin, cos) = self.theta.sin_cos();
+        let left = Vec2::new(-sin, cos);
+        let mut t = (q - self.point).dot(Vec2::new(cos, sin));
+        for _ in 0..EXTENSION_NEWTON_STEPS {
+            if !(t * beyond > 0.0) {
+                return None;
+            }
+            let (p, d) = self.at(t);
+            let slope = d.dot(d) + (p - q).dot(left * self.kappa);
+            if !(slope > 0.0) {
+                return None;
+            }
+            t -= (p - q).dot(d) / slope;
+        }
+        if !(t * beyond > 0.0) {
+            return None;
+        }
+        let (p, d) = self.at(t);
+        Some((t, p, perp(d) / d.hypot()))
+    }
+}
+
+/// Newton steps on a sample's foot on a segment's extension ([`EndPose::foot`]): within a few
+/// sample spacings of the end the extension is nearly straight and two steps settle it; the
+/// third makes the foot's error negligible against the distance's.
+const EXTENSION_NEWTON_STEPS: usize = 3;
+
+/// The samples `points` of segment `seg` whose foot is an end at an interior joint (`ends`:
+/// whether its start, its end is one) with the sample beyond it, measured against the
+/// segment's second-order extension there ([`EndPose`]) instead of its end point: their signed
+/// distances, feet (beyond [0, S]) and foot points with normals. At a G2 joint the extension
+/// follows the next segment to third order, so a sample beyond the joint is measured about as
+/// that segment would measure it, and its distance changes smoothly as the joint slides past
+/// it (measured against the end point it has a kink where the end passes the sample's foot,
+/// which the linear model of a Levenberg–Marquardt step cannot see: see [`Solver::extend`]).
+fn extend_feet(
+    seg: &LacSegment,
+    (at_start, at_end): (bool, bool),
+    points: &[Point],
+    (residuals, feet, foot_points): (&mut [f64], &mut [f64], &mut [(Point, Vec2)]),
+) {
+    let length = seg.length();
+    let ends = [
+        (at_start, 0.0, -1.0, EndPose::of(seg, false)),
+        (at_end, length, 1.0, EndPose::of(seg, true)),
+    ];
+    for (m, q) in points.iter().enumerate() {
+        for &(open, origin, beyond, pose) in &ends {
+            if !(open && feet[m] == origin) {
+                continue;
+            }
+            if let Some((t, p, n)) = pose.foot(*q, beyond) {
+                residuals[m] = (*q - p).dot(n);
+                feet[m] = origin + t;
+                foot_points[m] = (p, n);
+            }
+        }
+    }
+}
+
+/// The points of `seg` at arc lengths `feet` (ordered), those beyond [0, S] on its
+/// extensions ([`EndPose`]), into `out`.
+pub(super) fn points_on(seg: &LacSegment, feet: &[f64], out: &mut Vec<Point>) {
+    crate::lac::deviation::points_at_into(seg, feet, out);
+    let length = seg.length();
+    for (p, &s) in out.iter_mut().zip(feet) {
+        if s > length {
+            *p = EndPose::of(seg, true).at(s - length).0;
+        } else if s < 0.0 {
+            *p = EndPose::of(seg, false).at(s).0;
+        }
+    }
+}
+
 /// Distance from `q` to `segment` (one sample).
 pub(super) fn distance(solver: &Solver, segment: &LacSegment, q: Point) -> f64 {
     deviation(segment, &[q], solver.chord_error).max
@@ -431,6 +565,110 @@ mod tests {
             tolerance: 1.0,
             window,
             lay_out_from_start: false,
+            extend: std::cell::Cell::new(false),
+        }
+    }
+
+    /// A log-aesthetic segment (α 0.5, κ from 0.02 to 0.05 over 60) and its two halves.
+    fn halves() -> (LacSegment, LacSegment, LacSegment) {
+        let whole = LacSegment::new(Point::new(3.0, -2.0), 0.4, 60.0, Some(0.5), 0.02, 0.05)
+            .expect("a valid segment");
+        let cut = 30.0;
+        let head = LacSegment::new(
+            whole.start(),
+            whole.theta0(),
+            cut,
+            Some(0.5),
+            whole.kappa0(),
+            whole.kappa(cut),
+        )
+        .expect("its head");
+        let tail = LacSegment::new(
+            whole.point(cut),
+            whole.theta(cut),
+            whole.length() - cut,
+            Some(0.5),
+            whole.kappa(cut),
+            whole.kappa1(),
+        )
+        .expect("its tail");
+        (whole, head, tail)
+    }
+
+    /// The extension past a half's end (before its start) follows the whole segment to third
+    /// order: halving the reach divides the gap by about 8, and the gap stays within the
+    /// curve's own third-order Taylor term, |N·dκ/ds − T·κ²|·t³/6 ≤ (|dκ/ds| + κ²)·t³/6, with a
+    /// factor for the fourth-order rest.
+    #[test]
+    fn an_extension_follows_the_curve_it_continues_to_third_order() {
+        let (whole, head, tail) = halves();
+        let cut = head.length();
+        let gap = |t: f64| {
+            let past = EndPose::of(&head, true)
+                .at(t)
+                .0
+                .distance(whole.point(cut + t));
+            let before = EndPose::of(&tail, false)
+                .at(-t)
+                .0
+                .distance(whole.point(cut - t));
+            (past, before)
+        };
+        let (k, dk) = (whole.kappa(cut), whole.dkappa_ds(cut));
+        for t in [2.0, 4.0] {
+            let (past, before) = gap(t);
+            let bound = 1.5 * (dk.abs() + k * k) * t.powi(3) / 6.0;
+            assert!(
+                past <= bound && before <= bound,
+                "{past}, {before} against {bound}"
+            );
+        }
+        let ((p2, b2), (p4, b4)) = (gap(2.0), gap(4.0));
+        for ratio in [p2 / p4, b2 / b4] {
+            assert!(
+                (0.08..=0.2).contains(&ratio),
+                "gap ratio {ratio} for half the reach"
+            );
+        }
+    }
+
+    /// A sample past a joint is measured on the extension (about its distance to the curve
+    /// beyond the joint), one whose foot is inside the segment is left as it was, and so is one
+    /// past an end that is not a joint.
+    #[test]
+    fn a_sample_past_a_joint_is_measured_on_the_extension() {
+        let (whole, head, _) = halves();
+        let cut = head.length();
+        let offset = 0.7;
+        let on = |s: f64| whole.point(s) + normal(whole.theta(s)) * offset;
+        let points = [on(10.0), on(cut + 3.0)];
+        let d = crate::lac::deviation(&head, &points, 1e-6);
+        let signed: Vec<f64> = d.signed_distances();
+        let foot_points: Vec<(Point, Vec2)> = d
+            .feet
+            .iter()
+            .map(|&s| (head.point(s), normal(head.theta(s))))
+            .collect();
+        assert_eq!(d.feet[1], cut, "the second sample's foot is the end");
+        for ends in [(true, true), (false, false)] {
+            let (mut r, mut f, mut fp) = (signed.clone(), d.feet.clone(), foot_points.clone());
+            extend_feet(&head, ends, &points, (&mut r, &mut f, &mut fp));
+            assert_eq!((r[0], f[0]), (signed[0], d.feet[0]), "an inner foot stays");
+            if ends.1 {
+                assert!((r[1] - offset).abs() < 5e-3, "{} on the extension", r[1]);
+                assert!((f[1] - (cut + 3.0)).abs() < 1e-2, "foot {}", f[1]);
+                assert!(
+                    signed[1] - offset > 1.0,
+                    "the end point is {} away",
+                    signed[1]
+                );
+            } else {
+                assert_eq!(
+                    (r[1], f[1]),
+                    (signed[1], d.feet[1]),
+                    "no joint, no extension"
+                );
+            }
         }
     }
 
