@@ -146,7 +146,7 @@ impl Solver<'_> {
                 extend_feet(
                     &e.segments[k],
                     ends,
-                    &self.points_of(list),
+                    list.iter().map(|&i| self.points[i]),
                     (&mut residuals, &mut feet, &mut foot_points),
                 );
             }
@@ -343,42 +343,40 @@ pub(super) fn worst_sample(own: &[Vec<f64>]) -> (f64, Option<usize>) {
     best
 }
 
-/// One end of a segment as its extension starts from it: the end point, tangent angle and
-/// signed curvature there.
+/// One end of a segment as its extension starts from it: the end point, its unit tangent and
+/// left normal, and the signed curvature there.
 #[derive(Clone, Copy, Debug)]
 pub(super) struct EndPose {
     point: Point,
-    theta: f64,
+    tangent: Vec2,
+    left: Vec2,
     kappa: f64,
 }
 
 impl EndPose {
     /// Segment `seg`'s end (`at_end`) or start.
     pub(super) fn of(seg: &LacSegment, at_end: bool) -> Self {
-        if at_end {
-            EndPose {
-                point: seg.end(),
-                theta: seg.theta1(),
-                kappa: seg.kappa1(),
-            }
+        let (point, theta, kappa) = if at_end {
+            (seg.end(), seg.theta1(), seg.kappa1())
         } else {
-            EndPose {
-                point: seg.start(),
-                theta: seg.theta0(),
-                kappa: seg.kappa0(),
-            }
+            (seg.start(), seg.theta0(), seg.kappa0())
+        };
+        let left = normal(theta);
+        EndPose {
+            point,
+            tangent: Vec2::new(left.y, -left.x),
+            left,
+            kappa,
         }
     }
 
     /// The point of the second-order extension at `t` along it (beyond the segment's end for
     /// `t` > 0 from its end, before its start for `t` < 0 from its start),
-    /// E(t) = P + T·t + N·κ·t²/2, its derivative E′(t) = T + N·κ·t, and N the left normal.
+    /// E(t) = P + T·t + N·κ·t²/2, and its derivative E′(t) = T + N·κ·t (N the left normal).
     fn at(self, t: f64) -> (Point, Vec2) {
-        let (sin, cos) = self.theta.sin_cos();
-        let (tangent, left) = (Vec2::new(cos, sin), Vec2::new(-sin, cos));
         (
-            self.point + tangent * t + left * (0.5 * self.kappa * t * t),
-            tangent + left * (self.kappa * t),
+            self.point + self.tangent * t + self.left * (0.5 * self.kappa * t * t),
+            self.tangent + self.left * (self.kappa * t),
         )
     }
 
@@ -387,15 +385,13 @@ impl EndPose {
     /// there, or `None` where the foot is not beyond the segment (`beyond`: the sign of `t`
     /// there, + past the end, − before the start) or the iteration leaves its basin.
     fn foot(self, q: Point, beyond: f64) -> Option<(f64, Point, Vec2)> {
-        let (sin, cos) = self.theta.sin_cos();
-        let left = Vec2::new(-sin, cos);
-        let mut t = (q - self.point).dot(Vec2::new(cos, sin));
+        let mut t = (q - self.point).dot(self.tangent);
         for _ in 0..EXTENSION_NEWTON_STEPS {
             if !(t * beyond > 0.0) {
                 return None;
             }
             let (p, d) = self.at(t);
-            let slope = d.dot(d) + (p - q).dot(left * self.kappa);
+            let slope = d.dot(d) + (p - q).dot(self.left * self.kappa);
             if !(slope > 0.0) {
                 return None;
             }
@@ -425,7 +421,7 @@ const EXTENSION_NEWTON_STEPS: usize = 3;
 fn extend_feet(
     seg: &LacSegment,
     (at_start, at_end): (bool, bool),
-    points: &[Point],
+    points: impl Iterator<Item = Point>,
     (residuals, feet, foot_points): (&mut [f64], &mut [f64], &mut [(Point, Vec2)]),
 ) {
     let length = seg.length();
@@ -433,13 +429,13 @@ fn extend_feet(
         (at_start, 0.0, -1.0, EndPose::of(seg, false)),
         (at_end, length, 1.0, EndPose::of(seg, true)),
     ];
-    for (m, q) in points.iter().enumerate() {
+    for (m, q) in points.enumerate() {
         for &(open, origin, beyond, pose) in &ends {
             if !(open && feet[m] == origin) {
                 continue;
             }
-            if let Some((t, p, n)) = pose.foot(*q, beyond) {
-                residuals[m] = (*q - p).dot(n);
+            if let Some((t, p, n)) = pose.foot(q, beyond) {
+                residuals[m] = (q - p).dot(n);
                 feet[m] = origin + t;
                 foot_points[m] = (p, n);
             }
@@ -452,11 +448,15 @@ fn extend_feet(
 pub(super) fn points_on(seg: &LacSegment, feet: &[f64], out: &mut Vec<Point>) {
     crate::lac::deviation::points_at_into(seg, feet, out);
     let length = seg.length();
+    let (mut start, mut end) = (None, None);
     for (p, &s) in out.iter_mut().zip(feet) {
         if s > length {
-            *p = EndPose::of(seg, true).at(s - length).0;
+            *p = end
+                .get_or_insert_with(|| EndPose::of(seg, true))
+                .at(s - length)
+                .0;
         } else if s < 0.0 {
-            *p = EndPose::of(seg, false).at(s).0;
+            *p = start.get_or_insert_with(|| EndPose::of(seg, false)).at(s).0;
         }
     }
 }
@@ -652,7 +652,7 @@ mod tests {
         assert_eq!(d.feet[1], cut, "the second sample's foot is the end");
         for ends in [(true, true), (false, false)] {
             let (mut r, mut f, mut fp) = (signed.clone(), d.feet.clone(), foot_points.clone());
-            extend_feet(&head, ends, &points, (&mut r, &mut f, &mut fp));
+            extend_feet(&head, ends, points.into_iter(), (&mut r, &mut f, &mut fp));
             assert_eq!((r[0], f[0]), (signed[0], d.feet[0]), "an inner foot stays");
             if ends.1 {
                 // Off by the normal part of the extension's third-order gap 3 past the joint,
