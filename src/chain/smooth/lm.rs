@@ -170,34 +170,32 @@ pub(super) fn minimax(
     found
 }
 
-/// The normal equations JᵀJ and Jᵀr of the residuals of `e` with Jacobian `jr` (rows segment
-/// after segment): segment k's rows are nonzero only in the columns `reaching[k]`, so each row
-/// adds its few products instead of a dense product over every column.
+/// The normal equations JᵀJ and Jᵀr of the `m` unknowns for the residuals of `e` with
+/// Jacobian `jr`: segment k's rows are nonzero only in its own columns, so each row adds its
+/// few products instead of a dense product over every column.
 pub(super) fn normal_equations(
     solver: &Solver,
-    jr: &DMatrix<f64>,
+    jr: &ResidualJacobian,
+    m: usize,
     e: &Evaluation,
     assign: &[Vec<usize>],
-    reaching: &[Vec<usize>],
 ) -> (DMatrix<f64>, DVector<f64>) {
-    let m = jr.ncols();
     let mut a = DMatrix::zeros(m, m);
     let mut g = DVector::zeros(m);
-    let mut row = 0;
-    for ((residuals, columns), list) in e.residuals.iter().zip(reaching).zip(assign) {
-        for (&r, &sample) in residuals.iter().zip(list) {
+    for (k, (residuals, list)) in e.residuals.iter().zip(assign).enumerate() {
+        let (columns, rows) = jr.segment(k);
+        for ((&r, &sample), row) in residuals.iter().zip(list).zip(rows) {
             let w = solver.weight(sample);
-            for &j in columns {
-                let v = w * jr[(row, j)];
+            for (&j, &jrj) in columns.iter().zip(row) {
+                let v = w * jrj;
                 if v == 0.0 {
                     continue;
                 }
                 g[j] += v * r;
-                for &i in columns {
-                    a[(i, j)] += jr[(row, i)] * v;
+                for (&i, &jri) in columns.iter().zip(row) {
+                    a[(i, j)] += jri * v;
                 }
             }
-            row += 1;
         }
     }
     (a, g)
@@ -507,12 +505,12 @@ pub(super) fn levenberg_marquardt(
     let mut lambda = INITIAL_DAMPING;
     let mut growth = DAMPING_GROWTH;
     for iteration in 0..MAX_ITERATIONS {
-        let (jr, jc) = shooting_jacobian(solver, layout, x, e, &vars, &c3_joints)?;
+        let (jr, jc) = shooting_jacobian(solver, layout, x, e, &vars, &c3_joints, &reaching)?;
         let c = solver.constraints(Form::Shooting, &e.segments, x, &c3_joints);
         if c.len() != nc {
             return None;
         }
-        let (mut a, mut g) = normal_equations(solver, &jr, e, assign, &reaching);
+        let (mut a, mut g) = normal_equations(solver, &jr, m, e, assign);
         let floor = DIAGONAL_FLOOR * a.diagonal().max().max(f64::MIN_POSITIVE);
         // An unknown on its bound that the descent direction pushes beyond it is held there
         // (an active set): clamped after the step instead, it bends every step the model
