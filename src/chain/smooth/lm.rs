@@ -170,30 +170,164 @@ pub(super) fn minimax(
     found
 }
 
-/// The normal equations JᵀJ and Jᵀr of the `m` unknowns for the residuals of `e` with
-/// Jacobian `jr`: segment k's rows are nonzero only in its own columns, so each row adds its
-/// few products instead of a dense product over every column.
-pub(super) fn normal_equations(
+/// Where JᵀJ of a solve's unknowns can be nonzero, fixed through the solve: column j holds the
+/// rows `rows[j]`, the unknowns that share a segment with unknown j (ascending, and symmetric:
+/// i is among j's rows where j is among i's), its entries stored column after column.
+pub(super) struct NormalPattern {
+    /// Per column j, the rows of its entries (ascending).
+    rows: Vec<Vec<usize>>,
+    /// Where column j's entries start in the stored values; the last is their count.
+    offsets: Vec<usize>,
+    /// Where each column's diagonal entry is stored.
+    diagonal: Vec<usize>,
+    /// Per segment k with columns c (`reaching[k]`): entry (c[a], c[b]) stored at
+    /// `slots[k][a·|c| + b]`.
+    slots: Vec<Vec<usize>>,
+}
+
+impl NormalPattern {
+    /// The pattern of the unknowns reaching each segment (`reaching[k]`, ascending), each
+    /// column holding its own diagonal; `None` where an index is out of range.
+    fn new(m: usize, reaching: &[Vec<usize>]) -> Option<Self> {
+        let mut rows: Vec<Vec<usize>> = (0..m).map(|j| vec![j]).collect();
+        for columns in reaching {
+            for &j in columns {
+                rows.get_mut(j)?.extend(columns);
+            }
+        }
+        for r in &mut rows {
+            r.sort_unstable();
+            r.dedup();
+        }
+        let mut offsets = Vec::with_capacity(m + 1);
+        let mut count = 0;
+        for r in &rows {
+            offsets.push(count);
+            count += r.len();
+        }
+        offsets.push(count);
+        let at = |i: usize, j: usize| -> Option<usize> {
+            Some(offsets[j] + rows[j].binary_search(&i).ok()?)
+        };
+        let diagonal = (0..m).map(|j| at(j, j)).collect::<Option<Vec<_>>>()?;
+        let slots = reaching
+            .iter()
+            .map(|columns| {
+                columns
+                    .iter()
+                    .flat_map(|&i| columns.iter().map(move |&j| (i, j)))
+                    .map(|(i, j)| at(i, j))
+                    .collect::<Option<Vec<_>>>()
+            })
+            .collect::<Option<Vec<_>>>()?;
+        Some(NormalPattern {
+            rows,
+            offsets,
+            diagonal,
+            slots,
+        })
+    }
+
+    /// Where entry (i, j) is stored; `None` outside the pattern.
+    fn at(&self, i: usize, j: usize) -> Option<usize> {
+        Some(self.offsets[j] + self.rows[j].binary_search(&i).ok()?)
+    }
+}
+
+/// JᵀJ over a [`NormalPattern`]. Held dense, a part of 31 segments (186 unknowns) was
+/// allocated and zeroed at every iteration, 34 596 entries for about 2 000 that can be nonzero,
+/// and each unknown held on its bound or outside a local solve's window (see
+/// [`Solver::window`]) swept its whole row and column.
+pub(super) struct Normal<'p> {
+    pattern: &'p NormalPattern,
+    /// The entries, column after column (see [`NormalPattern::offsets`]).
+    values: Vec<f64>,
+}
+
+impl<'p> Normal<'p> {
+    fn zeros(pattern: &'p NormalPattern) -> Self {
+        Normal {
+            values: vec![0.0; pattern.offsets.last().copied().unwrap_or(0)],
+            pattern,
+        }
+    }
+
+    /// Diagonal entry (j, j).
+    fn diagonal(&self, j: usize) -> f64 {
+        self.values[self.pattern.diagonal[j]]
+    }
+
+    /// The largest diagonal entry (zero without unknowns).
+    fn max_diagonal(&self) -> f64 {
+        (0..self.pattern.rows.len())
+            .map(|j| self.diagonal(j))
+            .reduce(|a, b| if b > a { b } else { a })
+            .unwrap_or(0.0)
+    }
+
+    /// Row and column i set to zero, and the diagonal entry to `value`.
+    fn hold(&mut self, i: usize, value: f64) {
+        let pattern = self.pattern;
+        for &j in &pattern.rows[i] {
+            if let Some(at) = pattern.at(i, j) {
+                self.values[at] = 0.0;
+            }
+        }
+        self.values[pattern.offsets[i]..pattern.offsets[i + 1]].fill(0.0);
+        self.values[pattern.diagonal[i]] = value;
+    }
+
+    /// The nonzero entries of column j (and its diagonal, zero or not), as (row, value).
+    fn column(&self, j: usize) -> impl Iterator<Item = (usize, f64)> + '_ {
+        let p = self.pattern;
+        p.rows[j]
+            .iter()
+            .zip(&self.values[p.offsets[j]..p.offsets[j + 1]])
+            .filter(move |&(&i, &v)| v != 0.0 || i == j)
+            .map(|(&i, &v)| (i, v))
+    }
+
+    /// The product with `x`, each row summed over its columns in ascending order as a dense
+    /// product would (the entries outside the pattern are zero).
+    fn times(&self, x: &DVector<f64>) -> DVector<f64> {
+        let p = self.pattern;
+        let mut out = DVector::zeros(x.len());
+        for (j, rows) in p.rows.iter().enumerate() {
+            let values = &self.values[p.offsets[j]..p.offsets[j + 1]];
+            for (&i, &v) in rows.iter().zip(values) {
+                out[i] += v * x[j];
+            }
+        }
+        out
+    }
+}
+
+/// The normal equations JᵀJ (over `pattern`, that of the reaching sets `jr` holds) and Jᵀr
+/// for the residuals of `e` with Jacobian `jr`: segment k's rows are nonzero only in its own
+/// columns, so each row adds its few products instead of a dense product over every column.
+pub(super) fn normal_equations<'p>(
     solver: &Solver,
     jr: &ResidualJacobian,
-    m: usize,
+    pattern: &'p NormalPattern,
     e: &Evaluation,
     assign: &[Vec<usize>],
-) -> (DMatrix<f64>, DVector<f64>) {
-    let mut a = DMatrix::zeros(m, m);
-    let mut g = DVector::zeros(m);
+) -> (Normal<'p>, DVector<f64>) {
+    let mut a = Normal::zeros(pattern);
+    let mut g = DVector::zeros(pattern.rows.len());
     for (k, (residuals, list)) in e.residuals.iter().zip(assign).enumerate() {
         let (columns, rows) = jr.segment(k);
+        let c = columns.len();
+        let slots = &pattern.slots[k];
         for ((&r, &sample), row) in residuals.iter().zip(list).zip(rows) {
             let w = solver.weight(sample);
-            for (&j, &jrj) in columns.iter().zip(row) {
+            for (b, (&j, &jrj)) in columns.iter().zip(row).enumerate() {
                 let v = w * jrj;
                 if v == 0.0 {
                     continue;
                 }
                 g[j] += v * r;
-                for (&i, &jri) in columns.iter().zip(row) {
-                    a[(i, j)] += jri * v;
+                for (i, &jri) in row.iter().enumerate() {
+                    a.values[slots[i * c + b]] += jri * v;
                 }
             }
         }
@@ -486,16 +620,7 @@ pub(super) fn levenberg_marquardt(
         .collect();
     // Where JᵀJ can be nonzero: column j's rows are the unknowns that share a segment with it
     // (see [`normal_equations`]), and its diagonal.
-    let mut pattern: Vec<Vec<usize>> = (0..m).map(|j| vec![j]).collect();
-    for columns in &reaching {
-        for &j in columns {
-            pattern[j].extend(columns);
-        }
-    }
-    for rows in &mut pattern {
-        rows.sort_unstable();
-        rows.dedup();
-    }
+    let pattern = NormalPattern::new(m, &reaching)?;
     // The KKT system's band order: the layout, and so the rows, stay fixed through the solve.
     let constraint_rows = constraint_order(Form::Shooting, layout.n(), solver.c3, &c3_joints);
     let nc = constraint_rows.len();
@@ -510,8 +635,8 @@ pub(super) fn levenberg_marquardt(
         if c.len() != nc {
             return None;
         }
-        let (mut a, mut g) = normal_equations(solver, &jr, m, e, assign);
-        let floor = DIAGONAL_FLOOR * a.diagonal().max().max(f64::MIN_POSITIVE);
+        let (mut a, mut g) = normal_equations(solver, &jr, &pattern, e, assign);
+        let floor = DIAGONAL_FLOOR * a.max_diagonal().max(f64::MIN_POSITIVE);
         // An unknown on its bound that the descent direction pushes beyond it is held there
         // (an active set): clamped after the step instead, it bends every step the model
         // predicts, and the damping rises until the steps are too short to matter. So is one
@@ -523,13 +648,11 @@ pub(super) fn levenberg_marquardt(
         let mut held = vec![false; m];
         let hold = |i: usize,
                     held: &mut [bool],
-                    a: &mut DMatrix<f64>,
+                    a: &mut Normal,
                     g: &mut DVector<f64>,
                     jc: &mut DMatrix<f64>| {
             held[i] = true;
-            a.row_mut(i).fill(0.0);
-            a.column_mut(i).fill(0.0);
-            a[(i, i)] = floor.max(1.0);
+            a.hold(i, floor.max(1.0));
             g[i] = 0.0;
             jc.column_mut(i).fill(0.0);
         };
@@ -546,11 +669,9 @@ pub(super) fn levenberg_marquardt(
             let mut entries = Vec::new();
             // Whether some unknown moves each constraint.
             let mut moved_by = vec![false; nc];
-            for (j, rows) in pattern.iter().enumerate() {
-                for &i in rows {
-                    if a[(i, j)] != 0.0 || i == j {
-                        entries.push((position[i], position[j], a[(i, j)]));
-                    }
+            for j in 0..m {
+                for (i, v) in a.column(j) {
+                    entries.push((position[i], position[j], v));
                 }
                 for r in 0..nc {
                     if jc[(r, j)] != 0.0 {
@@ -583,7 +704,7 @@ pub(super) fn levenberg_marquardt(
                     kkt.add(i, j, v);
                 }
                 for i in 0..m {
-                    kkt.add(position[i], position[i], lambda * a[(i, i)].max(floor));
+                    kkt.add(position[i], position[i], lambda * a.diagonal(i).max(floor));
                 }
                 let Some(solution) = kkt.solve(&rhs) else {
                     lambda *= growth;
@@ -609,7 +730,7 @@ pub(super) fn levenberg_marquardt(
                 // the reweighting moves the weighted cost's minimum by little (often under the
                 // fraction: the round then ended where it began and the next reweighted the
                 // same chain), but towards the largest distance, which is what the round is for.
-                let predicted = -(2.0 * g.dot(&delta) + delta.dot(&(&a * &delta)));
+                let predicted = -(2.0 * g.dot(&delta) + delta.dot(&a.times(&delta)));
                 let stop_below = if solver.minimax && iteration == 0 {
                     0.0
                 } else if solver.polish {
