@@ -8,6 +8,70 @@ use super::*;
 /// balances truncation against rounding.
 pub(super) const DIFFERENCE_STEP: f64 = 1e-6;
 
+/// The constraints' Jacobian by columns: each unknown's nonzero rows (ascending) and entries.
+/// A joint's equations involve the two segments that meet there, so a column of the shooting
+/// form has at most a dozen nonzero rows of the three per joint: held dense, a part of 31
+/// segments (92 equations, 186 unknowns) was allocated, zeroed, written and scanned in full at
+/// every Jacobian, and its least-norm factor ([`super::lm::LeastNorm`]) scanned it again.
+#[derive(Clone, Debug)]
+pub(super) struct ConstraintJacobian {
+    /// The number of constraints.
+    rows: usize,
+    /// Per unknown: its nonzero rows, ascending, and their entries.
+    columns: Vec<Vec<(usize, f64)>>,
+}
+
+impl ConstraintJacobian {
+    /// `rows` constraints of `columns` unknowns, all zero.
+    pub(super) fn zeros(rows: usize, columns: usize) -> Self {
+        ConstraintJacobian {
+            rows,
+            columns: vec![Vec::new(); columns],
+        }
+    }
+
+    /// The number of constraints.
+    pub(super) fn nrows(&self) -> usize {
+        self.rows
+    }
+
+    /// The number of unknowns.
+    pub(super) fn ncols(&self) -> usize {
+        self.columns.len()
+    }
+
+    /// Column j's nonzero rows and entries, rows ascending.
+    pub(super) fn column(&self, j: usize) -> &[(usize, f64)] {
+        &self.columns[j]
+    }
+
+    /// Column j set to zero.
+    pub(super) fn clear_column(&mut self, j: usize) {
+        self.columns[j].clear();
+    }
+
+    /// Entry (r, j).
+    fn get(&self, r: usize, j: usize) -> f64 {
+        self.columns[j]
+            .iter()
+            .find(|&&(row, _)| row == r)
+            .map_or(0.0, |&(_, v)| v)
+    }
+
+    /// Entry (r, j) set to `value` (a zero is not stored).
+    fn set(&mut self, r: usize, j: usize, value: f64) {
+        let column = &mut self.columns[j];
+        match column.binary_search_by(|&(row, _)| row.cmp(&r)) {
+            Ok(at) if value != 0.0 => column[at].1 = value,
+            Ok(at) => {
+                column.remove(at);
+            }
+            Err(at) if value != 0.0 => column.insert(at, (r, value)),
+            Err(_) => {}
+        }
+    }
+}
+
 /// The constraints' Jacobian in the forward form at its chain `segments`: a change of one
 /// unknown reshapes at most two segments (differenced) and moves every later segment rigidly
 /// with the end pose of the last reshaped one, so the chain's end moves by
@@ -20,22 +84,22 @@ fn forward_constraint_jacobian(
     segments: &[LacSegment],
     vars: &[Var],
     c3_joints: &[usize],
-) -> Option<DMatrix<f64>> {
+) -> Option<ConstraintJacobian> {
     let n = layout.n();
     let nc = 2 + if solver.c3 { c3_joints.len() } else { 0 };
-    let mut jc = DMatrix::zeros(nc, vars.len());
+    let mut jc = ConstraintJacobian::zeros(nc, vars.len());
     let end = segments[n - 1].end();
     for (col, &var) in vars.iter().enumerate() {
         if var == Var::Theta0 {
             let d = perp(end - x.pose[0].0) / solver.scale;
-            jc[(0, col)] = d.x;
-            jc[(1, col)] = d.y;
+            jc.set(0, col, d.x);
+            jc.set(1, col, d.y);
             continue;
         }
         if var == Var::EndShift {
             let d = x.anchors[1].1 / -solver.scale;
-            jc[(0, col)] = d.x;
-            jc[(1, col)] = d.y;
+            jc.set(0, col, d.x);
+            jc.set(1, col, d.y);
             continue;
         }
         let (k0, k1) = layout.reach(var);
@@ -47,8 +111,8 @@ fn forward_constraint_jacobian(
         let d_end = (last.end() - old_end) / DIFFERENCE_STEP;
         let d_theta = (last.theta1() - segments[k1].theta1()) / DIFFERENCE_STEP;
         let d = (d_end + perp(end - old_end) * d_theta) / solver.scale;
-        jc[(0, col)] = d.x;
-        jc[(1, col)] = d.y;
+        jc.set(0, col, d.x);
+        jc.set(1, col, d.y);
         if solver.c3 {
             let pick = |k: usize| {
                 if (k0..=k1).contains(&k) {
@@ -61,7 +125,7 @@ fn forward_constraint_jacobian(
                 if (k0..=k1).contains(&(j - 1)) || (k0..=k1).contains(&j) {
                     let before = c3_gap(&segments[j - 1], &segments[j]);
                     let after = c3_gap(pick(j - 1), pick(j));
-                    jc[(2 + row, col)] = (after - before) / DIFFERENCE_STEP;
+                    jc.set(2 + row, col, (after - before) / DIFFERENCE_STEP);
                 }
             }
         }
@@ -136,10 +200,10 @@ pub(super) fn shooting_jacobian(
     vars: &[Var],
     c3_joints: &[usize],
     reaching: &[Vec<usize>],
-) -> Option<(ResidualJacobian, DMatrix<f64>)> {
+) -> Option<(ResidualJacobian, ConstraintJacobian)> {
     let c0 = solver.constraints(Form::Shooting, &e.segments, x, c3_joints);
     let mut jr = ResidualJacobian::zeros(reaching, e);
-    let mut jc = DMatrix::zeros(c0.len(), vars.len());
+    let mut jc = ConstraintJacobian::zeros(c0.len(), vars.len());
     let mut segments = e.segments.clone();
     // Each foot evaluated as the differenced points will be: the stored foot points come from
     // the distance search's own integration, and a difference against them carries the two
@@ -203,8 +267,13 @@ pub(super) fn shooting_jacobian(
             segments[k] = seg;
         }
         solver.constraints_into(Form::Shooting, &segments, &xp, c3_joints, &mut c1);
+        let column = &mut jc.columns[col];
+        column.clear();
         for (r, (after, before)) in c1.iter().zip(c0.iter()).enumerate() {
-            jc[(r, col)] = (after - before) / DIFFERENCE_STEP;
+            let d = (after - before) / DIFFERENCE_STEP;
+            if d != 0.0 {
+                column.push((r, d));
+            }
         }
         segments[k0..=k1].copy_from_slice(&e.segments[k0..=k1]);
         restore(&mut xp, x, var);
@@ -232,10 +301,12 @@ pub(super) fn shooting_jacobian(
         let (rx, ry, angle) = end_rows(n, k);
         let lever = (e.segments[k].end() - start) / solver.scale;
         for (row, own) in [(rx, lever.x), (ry, lever.y)] {
-            jc[(row, col)] = own + joints.iter().map(|&j| jc[(row, j)]).sum::<f64>();
+            let value = own + joints.iter().map(|&j| jc.get(row, j)).sum::<f64>();
+            jc.set(row, col, value);
         }
         if let Some(row) = angle {
-            jc[(row, col)] = joints.iter().map(|&j| jc[(row, j)]).sum::<f64>();
+            let value = joints.iter().map(|&j| jc.get(row, j)).sum::<f64>();
+            jc.set(row, col, value);
         }
     }
     Some((jr, jc))
@@ -261,7 +332,7 @@ pub(super) fn constraint_jacobian(
     segments: &[LacSegment],
     vars: &[Var],
     c3_joints: &[usize],
-) -> Option<DMatrix<f64>> {
+) -> Option<ConstraintJacobian> {
     match form {
         Form::Shooting => {
             let n = segments.len();

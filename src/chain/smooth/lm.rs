@@ -466,7 +466,7 @@ pub(super) fn project(
                             || layout.pushed_beyond(var, x, 1.0, solver.log_kappa)
                             || layout.pushed_beyond(var, x, -1.0, solver.log_kappa)
                         {
-                            jc.column_mut(i).fill(0.0);
+                            jc.clear_column(i);
                         }
                     }
                     let factor = LeastNorm::new(&jc, &rows)?;
@@ -530,18 +530,13 @@ impl LeastNorm {
     /// `None` where JJᵀ is singular or the sizes differ. A constraint no unknown moves (one among
     /// held segments, see [`Solver::window`], met already) gets a unit diagonal: its multiplier
     /// moves nothing.
-    pub(super) fn new(jc: &DMatrix<f64>, rows: &[usize]) -> Option<Self> {
-        let (nc, m) = jc.shape();
+    pub(super) fn new(jc: &ConstraintJacobian, rows: &[usize]) -> Option<Self> {
+        let nc = jc.nrows();
         if rows.len() != nc {
             return None;
         }
-        let columns: Vec<Vec<(usize, f64)>> = (0..m)
-            .map(|j| {
-                (0..nc)
-                    .filter(|&r| jc[(r, j)] != 0.0)
-                    .map(|r| (rows[r], jc[(r, j)]))
-                    .collect()
-            })
+        let columns: Vec<Vec<(usize, f64)>> = (0..jc.ncols())
+            .map(|j| jc.column(j).iter().map(|&(r, v)| (rows[r], v)).collect())
             .collect();
         let width = columns
             .iter()
@@ -650,11 +645,11 @@ pub(super) fn levenberg_marquardt(
                     held: &mut [bool],
                     a: &mut Normal,
                     g: &mut DVector<f64>,
-                    jc: &mut DMatrix<f64>| {
+                    jc: &mut ConstraintJacobian| {
             held[i] = true;
             a.hold(i, floor.max(1.0));
             g[i] = 0.0;
-            jc.column_mut(i).fill(0.0);
+            jc.clear_column(i);
         };
         for (i, &var) in vars.iter().enumerate() {
             if solver.frozen(var, layout.n())
@@ -673,12 +668,10 @@ pub(super) fn levenberg_marquardt(
                 for (i, v) in a.column(j) {
                     entries.push((position[i], position[j], v));
                 }
-                for r in 0..nc {
-                    if jc[(r, j)] != 0.0 {
-                        moved_by[r] = true;
-                        entries.push((position[m + r], position[j], jc[(r, j)]));
-                        entries.push((position[j], position[m + r], jc[(r, j)]));
-                    }
+                for &(r, v) in jc.column(j) {
+                    moved_by[r] = true;
+                    entries.push((position[m + r], position[j], v));
+                    entries.push((position[j], position[m + r], v));
                 }
             }
             // A constraint no unknown moves (one among held segments, see [`Solver::window`])

@@ -126,7 +126,7 @@ use crate::geom::{Point, Vec2};
 use crate::lac::alpha_search::SpanFitOptions;
 use crate::lac::deviation::{deviation, deviation_near};
 use crate::lac::{AlphaChoice, LacError, LacSegment};
-use nalgebra::{DMatrix, DVector};
+use nalgebra::DVector;
 use serde::{Deserialize, Serialize};
 
 mod jacobian;
