@@ -109,9 +109,13 @@ pub(crate) fn cis_small(delta: f64) -> Vec2 {
     if delta.abs() > CIS_SERIES_MAX || delta.is_nan() {
         return cis(delta);
     }
-    // Terms needed: the first left out, |δ|^{2K}/(2K)!, below 1e-19 (K = 7 at 1/4, 9 at 1/2).
+    // Terms needed: the first left out, |δ|^{2K}/(2K)!, below 1e-19 (K = 5 at 1/20, 7 at 1/4,
+    // 9 at 1/2). The quadratures' nodes sit within 1/20 of their panel's middle: a step turning
+    // at most `deviation::POLISH_STEP_TURN` puts its outer nodes 0.039 from it.
     let a = delta.abs();
-    let terms = if a <= 0.25 {
+    let terms = if a <= 0.05 {
+        5
+    } else if a <= 0.25 {
         7
     } else if a <= 0.5 {
         9

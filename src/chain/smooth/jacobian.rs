@@ -225,7 +225,8 @@ pub(super) fn shooting_jacobian(
     // One moved copy of the unknowns, each column's change undone after it (see [`restore`]),
     // and the feet's and constraints' buffers shared by the columns: a column allocates nothing.
     let mut xp = x.clone();
-    let (mut feet, mut moved, mut c1) = (Vec::new(), Vec::new(), Vec::new());
+    let (mut feet, mut moved, mut c1, mut nonzero) =
+        (Vec::new(), Vec::new(), Vec::new(), Vec::new());
     for (col, &var) in vars.iter().enumerate() {
         if scaled(var) {
             continue;
@@ -267,14 +268,16 @@ pub(super) fn shooting_jacobian(
             segments[k] = seg;
         }
         solver.constraints_into(Form::Shooting, &segments, &xp, c3_joints, &mut c1);
-        let column = &mut jc.columns[col];
-        column.clear();
-        for (r, (after, before)) in c1.iter().zip(c0.iter()).enumerate() {
+        // Gathered in a buffer the columns share, then stored at its size: a column grown
+        // by pushes reallocated three or four times.
+        nonzero.clear();
+        for (r, (after, before)) in c1.iter().zip(c0.as_slice()).enumerate() {
             let d = (after - before) / DIFFERENCE_STEP;
             if d != 0.0 {
-                column.push((r, d));
+                nonzero.push((r, d));
             }
         }
+        jc.columns[col] = nonzero.clone();
         segments[k0..=k1].copy_from_slice(&e.segments[k0..=k1]);
         restore(&mut xp, x, var);
     }

@@ -257,6 +257,11 @@ impl<'p> Normal<'p> {
         self.values[self.pattern.diagonal[j]]
     }
 
+    /// The number of entries stored (the pattern's size).
+    fn stored(&self) -> usize {
+        self.values.len()
+    }
+
     /// The largest diagonal entry (zero without unknowns).
     fn max_diagonal(&self) -> f64 {
         (0..self.pattern.rows.len())
@@ -661,7 +666,9 @@ pub(super) fn levenberg_marquardt(
         let mut accepted = None;
         'assemble: for _ in 0..=m {
             // The KKT system [A + λD, Jcᵀ; Jc, 0] in the band order, as its nonzero entries.
-            let mut entries = Vec::new();
+            let mut entries = Vec::with_capacity(
+                a.stored() + 2 * (0..m).map(|j| jc.column(j).len()).sum::<usize>() + nc,
+            );
             // Whether some unknown moves each constraint.
             let mut moved_by = vec![false; nc];
             for j in 0..m {
