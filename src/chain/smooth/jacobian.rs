@@ -10,9 +10,10 @@ pub(super) const DIFFERENCE_STEP: f64 = 1e-6;
 
 /// The constraints' Jacobian by columns: each unknown's nonzero rows (ascending) and entries.
 /// A joint's equations involve the two segments that meet there, so a column of the shooting
-/// form has at most a dozen nonzero rows of the three per joint: held dense, a part of 31
-/// segments (92 equations, 186 unknowns) was allocated, zeroed, written and scanned in full at
-/// every Jacobian, and its least-norm factor ([`super::lm::LeastNorm`]) scanned it again.
+/// form is nonzero only in the rows of the joints next to the segments it moves: held dense, a
+/// part of 31 segments (92 equations, 186 unknowns) was allocated, zeroed, written and scanned
+/// in full at every Jacobian, and its least-norm factor ([`super::lm::LeastNorm`]) scanned it
+/// again.
 #[derive(Clone, Debug)]
 pub(super) struct ConstraintJacobian {
     /// The number of constraints.
@@ -137,26 +138,25 @@ fn forward_constraint_jacobian(
 /// nonzero only in the columns of the unknowns that reach it ([`Layout::shooting_reach`]), a
 /// dozen or so whatever the chain's length, and hold only those. A dense matrix of every
 /// sample against every unknown was allocated and zeroed at each Levenberg–Marquardt
-/// iteration, on the he2 stroke's part of 31 segments (113 samples, 186 unknowns) about fifteen times
-/// the entries used: its `memset` 67.6 → 53.7 M instructions, the stroke 931.8 → 922.4 M, the
-/// fits the same to the last bit.
-pub(super) struct ResidualJacobian {
+/// iteration: on the he2 stroke's part of 31 segments (113 samples, 186 unknowns) about
+/// fifteen times the entries used.
+pub(super) struct ResidualJacobian<'r> {
     /// Per segment: the columns its rows hold, ascending.
-    columns: Vec<Vec<usize>>,
+    columns: &'r [Vec<usize>],
     /// Per segment: its rows × its columns, row by row.
     blocks: Vec<Vec<f64>>,
 }
 
-impl ResidualJacobian {
+impl<'r> ResidualJacobian<'r> {
     /// Zeros for the residuals of `e`, segment k holding `columns[k]`.
-    fn zeros(columns: &[Vec<usize>], e: &Evaluation) -> Self {
+    fn zeros(columns: &'r [Vec<usize>], e: &Evaluation) -> Self {
         ResidualJacobian {
             blocks: columns
                 .iter()
                 .zip(&e.residuals)
                 .map(|(c, r)| vec![0.0; c.len() * r.len()])
                 .collect(),
-            columns: columns.to_vec(),
+            columns,
         }
     }
 
@@ -192,15 +192,15 @@ impl ResidualJacobian {
 /// residual columns are differenced at the samples' feet, the constraint columns by
 /// differencing [`Solver::constraints`] with those segments replaced. `reaching[k]`: the
 /// unknowns (indices into `vars`, ascending) that reach segment k.
-pub(super) fn shooting_jacobian(
+pub(super) fn shooting_jacobian<'r>(
     solver: &Solver,
     layout: &Layout,
     x: &Params,
     e: &Evaluation,
     vars: &[Var],
     c3_joints: &[usize],
-    reaching: &[Vec<usize>],
-) -> Option<(ResidualJacobian, ConstraintJacobian)> {
+    reaching: &'r [Vec<usize>],
+) -> Option<(ResidualJacobian<'r>, ConstraintJacobian)> {
     let c0 = solver.constraints(Form::Shooting, &e.segments, x, c3_joints);
     let mut jr = ResidualJacobian::zeros(reaching, e);
     let mut jc = ConstraintJacobian::zeros(c0.len(), vars.len());
@@ -223,7 +223,8 @@ pub(super) fn shooting_jacobian(
     // Without C3 rows, a length's column follows from the joints' (below): no construction.
     let scaled = |var: Var| matches!(var, Var::Length(_)) && !solver.c3;
     // One moved copy of the unknowns, each column's change undone after it (see [`restore`]),
-    // and the feet's and constraints' buffers shared by the columns: a column allocates nothing.
+    // and the feet's and constraints' buffers shared by the columns: a column allocates only
+    // its constraint column, at its size.
     let mut xp = x.clone();
     let (mut feet, mut moved, mut c1, mut nonzero) =
         (Vec::new(), Vec::new(), Vec::new(), Vec::new());
@@ -268,8 +269,8 @@ pub(super) fn shooting_jacobian(
             segments[k] = seg;
         }
         solver.constraints_into(Form::Shooting, &segments, &xp, c3_joints, &mut c1);
-        // Gathered in a buffer the columns share, then stored at its size: a column grown
-        // by pushes reallocated three or four times.
+        // Gathered in the shared buffer, then stored at its size (grown by pushes, a column
+        // reallocated three or four times).
         nonzero.clear();
         for (r, (after, before)) in c1.iter().zip(c0.as_slice()).enumerate() {
             let d = (after - before) / DIFFERENCE_STEP;
@@ -350,5 +351,28 @@ pub(super) fn constraint_jacobian(
             shooting_jacobian(solver, layout, x, &e, vars, c3_joints, &reaching).map(|(_, jc)| jc)
         }
         Form::Forward => forward_constraint_jacobian(solver, layout, x, segments, vars, c3_joints),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A constraint column keeps its rows ascending, stores no zero, and reads back what was
+    /// set.
+    #[test]
+    fn a_constraint_column_holds_its_nonzero_rows_in_order() {
+        let mut jc = ConstraintJacobian::zeros(6, 2);
+        jc.set(4, 1, 2.0);
+        jc.set(1, 1, -1.0);
+        jc.set(3, 1, 0.0);
+        jc.set(2, 1, 5.0);
+        assert_eq!(jc.column(1), &[(1, -1.0), (2, 5.0), (4, 2.0)]);
+        jc.set(2, 1, 0.0);
+        assert_eq!(jc.column(1), &[(1, -1.0), (4, 2.0)]);
+        assert!(jc.column(0).is_empty());
+        jc.clear_column(1);
+        assert!(jc.column(1).is_empty());
+        assert_eq!((jc.nrows(), jc.ncols()), (6, 2));
     }
 }

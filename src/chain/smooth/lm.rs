@@ -876,3 +876,76 @@ pub(super) fn laid_forward(
     let segments = project(Form::Forward, solver, layout, &mut forward, c3_joints, None)?;
     Some((forward, segments))
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use nalgebra::DMatrix;
+
+    /// The unknowns reaching each of four segments as a chain's do (a joint's unknowns reach
+    /// the two segments meeting there), in ascending order.
+    fn reaching() -> Vec<Vec<usize>> {
+        vec![
+            vec![0, 1, 2, 3],
+            vec![2, 3, 4, 5, 6],
+            vec![5, 6, 7],
+            vec![7, 8, 9],
+        ]
+    }
+
+    /// A deterministic entry for (segment, row, column).
+    fn entry(k: usize, row: usize, j: usize) -> f64 {
+        ((k * 31 + row * 7 + j * 13) % 17) as f64 / 8.0 - 1.0
+    }
+
+    /// JᵀJ accumulated over the pattern equals the dense product of the same rows, and a hold
+    /// clears exactly its row and column.
+    #[test]
+    fn the_normal_matrix_over_its_pattern_is_the_dense_product() {
+        let (m, reaching) = (10, reaching());
+        let pattern = NormalPattern::new(m, &reaching).expect("a valid pattern");
+        let mut normal = Normal::zeros(&pattern);
+        let mut dense = DMatrix::<f64>::zeros(m, m);
+        for (k, columns) in reaching.iter().enumerate() {
+            let c = columns.len();
+            for row in 0..3 {
+                let values: Vec<f64> = columns.iter().map(|&j| entry(k, row, j)).collect();
+                for (b, &j) in columns.iter().enumerate() {
+                    for (a, &i) in columns.iter().enumerate() {
+                        normal.values[pattern.slots[k][a * c + b]] += values[a] * values[b];
+                        dense[(i, j)] += values[a] * values[b];
+                    }
+                }
+            }
+        }
+        let x = DVector::from_iterator(m, (0..m).map(|i| (i as f64 * 0.37).sin()));
+        let times = normal.times(&x);
+        let expected = &dense * &x;
+        for i in 0..m {
+            assert!((times[i] - expected[i]).abs() <= 1e-12, "row {i}");
+            assert_eq!(normal.diagonal(i), dense[(i, i)]);
+            let column: Vec<(usize, f64)> = normal.column(i).collect();
+            for r in 0..m {
+                let stored = column.iter().find(|&&(row, _)| row == r).map(|&(_, v)| v);
+                match stored {
+                    Some(v) => assert_eq!(v, dense[(r, i)]),
+                    None => assert_eq!(dense[(r, i)], 0.0, "({r}, {i}) left out"),
+                }
+            }
+        }
+        normal.hold(5, 2.5);
+        for j in 0..m {
+            let expect_row = if j == 5 { 2.5 } else { 0.0 };
+            let row_entry = normal
+                .column(j)
+                .find(|&(r, _)| r == 5)
+                .map_or(0.0, |(_, v)| v);
+            assert_eq!(row_entry, expect_row, "(5, {j})");
+            let col_entry = normal
+                .column(5)
+                .find(|&(r, _)| r == j)
+                .map_or(0.0, |(_, v)| v);
+            assert_eq!(col_entry, expect_row, "({j}, 5)");
+        }
+    }
+}
