@@ -206,26 +206,24 @@ impl NormalPattern {
             count += r.len();
         }
         offsets.push(count);
-        let at = |i: usize, j: usize| -> Option<usize> {
-            Some(offsets[j] + rows[j].binary_search(&i).ok()?)
+        let mut pattern = NormalPattern {
+            rows,
+            offsets,
+            diagonal: Vec::new(),
+            slots: Vec::new(),
         };
-        let diagonal = (0..m).map(|j| at(j, j)).collect::<Option<Vec<_>>>()?;
-        let slots = reaching
+        pattern.diagonal = (0..m).map(|j| pattern.at(j, j)).collect::<Option<_>>()?;
+        pattern.slots = reaching
             .iter()
             .map(|columns| {
                 columns
                     .iter()
                     .flat_map(|&i| columns.iter().map(move |&j| (i, j)))
-                    .map(|(i, j)| at(i, j))
-                    .collect::<Option<Vec<_>>>()
+                    .map(|(i, j)| pattern.at(i, j))
+                    .collect::<Option<_>>()
             })
-            .collect::<Option<Vec<_>>>()?;
-        Some(NormalPattern {
-            rows,
-            offsets,
-            diagonal,
-            slots,
-        })
+            .collect::<Option<_>>()?;
+        Some(pattern)
     }
 
     /// Where entry (i, j) is stored; `None` outside the pattern.
@@ -268,6 +266,22 @@ impl<'p> Normal<'p> {
             .map(|j| self.diagonal(j))
             .reduce(|a, b| if b > a { b } else { a })
             .unwrap_or(0.0)
+    }
+
+    /// Adds wᵢ·rowᵀrow for one residual row of segment `k`, `row` over the segment's columns
+    /// (those its slots were made for); a column whose weighted entry is zero adds nothing.
+    fn add_row(&mut self, k: usize, row: &[f64], w: f64) {
+        let slots = &self.pattern.slots[k];
+        let c = row.len();
+        for (b, &jrj) in row.iter().enumerate() {
+            let v = w * jrj;
+            if v == 0.0 {
+                continue;
+            }
+            for (i, &jri) in row.iter().enumerate() {
+                self.values[slots[i * c + b]] += jri * v;
+            }
+        }
     }
 
     /// Row and column i set to zero, and the diagonal entry to `value`.
@@ -321,20 +335,15 @@ pub(super) fn normal_equations<'p>(
     let mut g = DVector::zeros(pattern.rows.len());
     for (k, (residuals, list)) in e.residuals.iter().zip(assign).enumerate() {
         let (columns, rows) = jr.segment(k);
-        let c = columns.len();
-        let slots = &pattern.slots[k];
         for ((&r, &sample), row) in residuals.iter().zip(list).zip(rows) {
             let w = solver.weight(sample);
-            for (b, (&j, &jrj)) in columns.iter().zip(row).enumerate() {
+            for (&j, &jrj) in columns.iter().zip(row) {
                 let v = w * jrj;
-                if v == 0.0 {
-                    continue;
-                }
-                g[j] += v * r;
-                for (i, &jri) in row.iter().enumerate() {
-                    a.values[slots[i * c + b]] += jri * v;
+                if v != 0.0 {
+                    g[j] += v * r;
                 }
             }
+            a.add_row(k, row, w);
         }
     }
     (a, g)
@@ -907,13 +916,13 @@ mod tests {
         let mut normal = Normal::zeros(&pattern);
         let mut dense = DMatrix::<f64>::zeros(m, m);
         for (k, columns) in reaching.iter().enumerate() {
-            let c = columns.len();
             for row in 0..3 {
                 let values: Vec<f64> = columns.iter().map(|&j| entry(k, row, j)).collect();
+                let w = 0.5 + row as f64;
+                normal.add_row(k, &values, w);
                 for (b, &j) in columns.iter().enumerate() {
                     for (a, &i) in columns.iter().enumerate() {
-                        normal.values[pattern.slots[k][a * c + b]] += values[a] * values[b];
-                        dense[(i, j)] += values[a] * values[b];
+                        dense[(i, j)] += values[a] * (w * values[b]);
                     }
                 }
             }
