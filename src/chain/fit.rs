@@ -1822,3 +1822,60 @@ pub(crate) fn nearest_deviation(
     }
     worst
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The largest distance from a sample to the chain is at most the largest distance from a
+    /// sample to its own segment (which the smooth fit relies on to tell a chain holds the
+    /// tolerance without measuring it against the other segments), and is the true one: a
+    /// sample that its own segment passes far from but another passes near counts at the
+    /// nearer distance.
+    #[test]
+    fn the_chain_distance_is_the_nearest_segment_and_bounded_by_the_own() {
+        let chord_error = 1e-4;
+        // A log-aesthetic segment and a line back along beside it (a hairpin).
+        let curve = LacSegment::new(Point::new(0.0, 0.0), 0.0, 40.0, Some(0.5), 0.02, 0.05)
+            .expect("a valid segment");
+        let back = curve.end();
+        let line = LacSegment::new(back, std::f64::consts::PI, 30.0, None, 0.0, 0.0)
+            .expect("a valid line");
+        let segments = [curve, line];
+        let points: Vec<Point> = (0..12)
+            .map(|i| {
+                let s = 3.0 * i as f64 + 1.0;
+                curve.point(s) + Vec2::new(0.1 * (i as f64).sin(), 0.2 * (i as f64 * 0.7).cos())
+            })
+            .chain((0..8).map(|i| line.point(3.0 * i as f64 + 2.0) + Vec2::new(0.0, 0.3)))
+            .collect();
+        // The last curve sample handed to the line, which passes far from it.
+        let samples = vec![(0..11).collect::<Vec<usize>>(), (11..20).collect()];
+        let own: Vec<Vec<f64>> = samples
+            .iter()
+            .zip(&segments)
+            .map(|(list, seg)| {
+                list.iter()
+                    .map(|&i| deviation(seg, &[points[i]], chord_error).max)
+                    .collect()
+            })
+            .collect();
+        let largest_own = own.iter().flatten().fold(0.0_f64, |m, &d| m.max(d));
+        let nearest = nearest_deviation(&points, &segments, &samples, &own, chord_error);
+        let brute = points
+            .iter()
+            .map(|&q| {
+                segments
+                    .iter()
+                    .map(|seg| deviation(seg, &[q], chord_error).max)
+                    .fold(f64::INFINITY, f64::min)
+            })
+            .fold(0.0_f64, f64::max);
+        assert!(nearest <= largest_own, "{nearest} > {largest_own}");
+        assert!(
+            largest_own > 2.0 * brute,
+            "the handed sample is far from its own segment"
+        );
+        assert!((nearest - brute).abs() <= 1e-9, "{nearest} against {brute}");
+    }
+}

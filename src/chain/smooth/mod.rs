@@ -751,7 +751,7 @@ fn smooth_from(
         }
         let own = distances(&evaluation);
         let (worst, _) = worst_sample(&own);
-        if let Some((chain, refit)) = holding(
+        if let Some(refit) = holding(
             smooth,
             &mut solver,
             &layout,
@@ -762,13 +762,8 @@ fn smooth_from(
                 Some((e, a, z)) => (e, a.as_slice(), z),
                 None => (&evaluation, assign.as_slice(), &x),
             };
-            return Ok(settled(
-                smooth,
-                &mut solver,
-                (&layout, z, a, e),
-                chain,
-                refit.is_none(),
-            ));
+            let answer = settled(smooth, &mut solver, (&layout, z, a, e), refit.is_none());
+            return Ok(answer.record(smooth));
         }
         if let missed @ Missed::Bound(_) = on_bound(&layout, &x, &chain.segments, max_log_kappa) {
             return Err(missed);
@@ -827,10 +822,10 @@ fn fewer_joints(
     x: &Params,
     assign: &[Vec<usize>],
     evaluation: &Evaluation,
-) -> Option<(Chain, Solved)> {
+) -> Option<Solved> {
     let (mut layout, mut x, mut assign) = (layout.clone(), x.clone(), assign.to_vec());
     let mut kept = evaluation.clone();
-    let mut best = None;
+    let mut removed_any = false;
     // Per joint: tried and kept. A removal changes the chain near it only, so a joint that
     // could not go is tried again only once a neighbouring segment has changed.
     let mut failed = vec![false; layout.n() + 1];
@@ -866,8 +861,8 @@ fn fewer_joints(
             ) else {
                 continue;
             };
-            let (chain, l, y, a, e) = found;
-            best = Some(chain);
+            let (l, y, a, e) = found;
+            removed_any = true;
             (layout, x, assign, kept) = (l, y, a, e);
             dropped(&mut failed, &[j]);
             dropped(&mut failed_move, &[j]);
@@ -898,8 +893,8 @@ fn fewer_joints(
             let Some(found) = found else {
                 continue;
             };
-            let (chain, l, y, a, e) = found;
-            best = Some(chain);
+            let (l, y, a, e) = found;
+            removed_any = true;
             (layout, x, assign, kept) = (l, y, a, e);
             dropped(&mut failed, &drops);
             dropped(&mut failed_move, &drops);
@@ -907,14 +902,11 @@ fn fewer_joints(
         }
         break;
     }
-    best.map(|chain| {
-        let solved = Solved {
-            layout,
-            x,
-            assign,
-            evaluation: kept,
-        };
-        (chain, solved)
+    removed_any.then_some(Solved {
+        layout,
+        x,
+        assign,
+        evaluation: kept,
     })
 }
 
@@ -941,9 +933,8 @@ fn dropped(flags: &mut Vec<bool>, drops: &[usize]) {
 /// order, each joining the segments on its two sides) and, first, the joint of `reset` made a
 /// zero joint or given its curvature, solved locally ([`REMOVAL_REACH`] segments each side of
 /// the joined ones move, the rest of the part stays and keeps its samples' distances): its
-/// chain record, layout, unknowns,
-/// assignment and evaluation where it holds the tolerance (or does after minimax rounds, see
-/// [`holding`]). `None` otherwise.
+/// layout, unknowns, assignment and evaluation where it holds the tolerance (or does after
+/// minimax rounds, see [`holding`]). `None` otherwise.
 #[allow(clippy::type_complexity)]
 fn removed(
     smooth: &SmoothInput,
@@ -951,7 +942,7 @@ fn removed(
     (layout, x, assign, kept): (&Layout, &Params, &[Vec<usize>], &Evaluation),
     reset: Option<Reset>,
     drops: &[usize],
-) -> Option<(Chain, Layout, Params, Vec<Vec<usize>>, Evaluation)> {
+) -> Option<(Layout, Params, Vec<Vec<usize>>, Evaluation)> {
     let (mut l, mut y, mut a) = (layout.clone(), x.clone(), assign.to_vec());
     if let Some(reset) = reset {
         let j = match reset {
@@ -991,16 +982,13 @@ fn removed(
     let mut tried = None;
     if let Some(e) = solve(solver, &l, &mut y, &mut a, Some((&near, &near_assign))) {
         let worst = worst_sample(&distances(&e)).0;
-        if let Some((chain, refit)) = holding(smooth, solver, &l, (&y, &a, &e), worst) {
-            tried = Some(match refit {
-                Some((e, a, y)) => (chain, e, a, y),
-                None => (chain, e, a, y),
-            });
+        if let Some(refit) = holding(smooth, solver, &l, (&y, &a, &e), worst) {
+            tried = Some(refit.unwrap_or((e, a, y)));
         }
     }
     solver.window = None;
-    let (chain, e, a, y) = tried?;
-    Some((chain, l, y, a, e))
+    let (e, a, y) = tried?;
+    Some((l, y, a, e))
 }
 
 /// Flat points of the chain `x` (its segments `segments`): interior joints j whose curvature is
@@ -1188,11 +1176,11 @@ fn without(e: &Evaluation, j: usize) -> Evaluation {
     }
 }
 
-/// The chain record of the solved chain `e` of `x` (its samples assigned as `assign`, the largest
-/// distance `worst`) where it holds the tolerance; where it misses by at most [`MINIMAX_REACH`],
-/// of its minimax refit ([`minimax`]: a near miss is first fitted for its largest distance rather
-/// than cut, see [`MINIMAX_ROUNDS`]), with that round's evaluation, assignment and unknowns.
-/// `None` where neither holds.
+/// Whether the solved chain `e` of `x` (its samples assigned as `assign`, the largest distance
+/// `worst`) holds the tolerance: `Some(None)` where it does as solved; where it misses by at
+/// most [`MINIMAX_REACH`] and its minimax refit ([`minimax`]: a near miss is first fitted for its
+/// largest distance rather than cut, see [`MINIMAX_ROUNDS`]) holds, `Some` of that round's
+/// evaluation, assignment and unknowns. `None` where neither holds.
 #[allow(clippy::type_complexity)]
 fn holding(
     smooth: &SmoothInput,
@@ -1200,41 +1188,63 @@ fn holding(
     layout: &Layout,
     (x, assign, e): (&Params, &[Vec<usize>], &Evaluation),
     worst: f64,
-) -> Option<(Chain, Option<(Evaluation, Vec<Vec<usize>>, Params)>)> {
+) -> Option<Option<(Evaluation, Vec<Vec<usize>>, Params)>> {
     if worst <= smooth.tolerance {
-        return held(smooth, layout, e, assign).map(|chain| (chain, None));
+        return holds(smooth, e).then_some(None);
     }
     if !(worst <= MINIMAX_REACH * smooth.tolerance) {
         return None;
     }
     let (e, a, z) = minimax(solver, layout, x, assign, e)?;
-    let chain = held(smooth, layout, &e, &a)?;
-    Some((chain, Some((e, a, z))))
+    holds(smooth, &e).then_some(Some((e, a, z)))
 }
 
-/// The chain record of `e` where every sample is within the tolerance of its own segment and of
-/// the whole chain; `None` otherwise.
-fn held(
-    smooth: &SmoothInput,
-    layout: &Layout,
-    e: &Evaluation,
-    assign: &[Vec<usize>],
-) -> Option<Chain> {
-    let own = distances(e);
-    if worst_sample(&own).0 > smooth.tolerance {
-        return None;
+/// Whether every sample of `e` is within the tolerance of its own segment, and so of the whole
+/// chain: a sample's distance to its own segment bounds its distance to the chain from above
+/// ([`nearest_deviation`] measures the chain's for the record, [`Held::record`], once a part's
+/// answer is chosen). A distance that is not a number never holds.
+fn holds(smooth: &SmoothInput, e: &Evaluation) -> bool {
+    e.residuals
+        .iter()
+        .flatten()
+        .all(|r| r.abs() <= smooth.tolerance)
+}
+
+/// A part's chain that holds the tolerance ([`holds`]), kept as solved: its record
+/// ([`Held::record`]: the samples' distances to the whole chain and each α's standard error) is
+/// made only for the part's answer, not for every chain the removals and the polish pass on the
+/// way (on a median fixture stroke that record had been a twentieth of the smooth fit).
+struct Held {
+    layout: Layout,
+    evaluation: Evaluation,
+    assign: Vec<Vec<usize>>,
+}
+
+impl Held {
+    /// The held chain of `layout`, `e` and `assign`, copied.
+    fn of(layout: &Layout, e: &Evaluation, assign: &[Vec<usize>]) -> Held {
+        Held {
+            layout: layout.clone(),
+            evaluation: e.clone(),
+            assign: assign.to_vec(),
+        }
     }
-    let nearest = nearest_deviation(
-        smooth.input.points,
-        &e.segments,
-        assign,
-        &own,
-        smooth.chord_error,
-    );
-    (nearest <= smooth.tolerance).then(|| finish(smooth, layout, e, assign, nearest))
+
+    /// The chain record, with the largest distance from a sample to its nearest segment.
+    fn record(&self, smooth: &SmoothInput) -> Chain {
+        let (e, assign) = (&self.evaluation, &self.assign);
+        let nearest = nearest_deviation(
+            smooth.input.points,
+            &e.segments,
+            assign,
+            &distances(e),
+            smooth.chord_error,
+        );
+        finish(smooth, &self.layout, e, assign, nearest)
+    }
 }
 
-/// The part's answer from `chain`, the solved chain of `x` that holds the tolerance: its joints
+/// The part's answer from the solved chain of `x` that holds the tolerance: its joints
 /// removed where they can go ([`fewer_joints`]), then polished ([`polished`]). A chain that held
 /// only after its minimax rounds (`least_squares` false) is polished only where a removal
 /// changed it: its own least-squares fit is the one that missed. (A removal that held only after
@@ -1245,18 +1255,19 @@ fn settled(
     smooth: &SmoothInput,
     solver: &mut Solver,
     (layout, x, assign, evaluation): (&Layout, &Params, &[Vec<usize>], &Evaluation),
-    chain: Chain,
     least_squares: bool,
-) -> Chain {
+) -> Held {
     match fewer_joints(smooth, solver, layout, x, assign, evaluation) {
-        Some((chain, s)) => polished(
-            smooth,
-            solver,
-            (&s.layout, &s.x, &s.assign, &s.evaluation),
-            chain,
-        ),
-        None if least_squares => polished(smooth, solver, (layout, x, assign, evaluation), chain),
-        None => chain,
+        Some(s) => {
+            polished(smooth, solver, (&s.layout, &s.x, &s.assign, &s.evaluation)).unwrap_or(Held {
+                layout: s.layout,
+                evaluation: s.evaluation,
+                assign: s.assign,
+            })
+        }
+        None if least_squares => polished(smooth, solver, (layout, x, assign, evaluation))
+            .unwrap_or_else(|| Held::of(layout, evaluation, assign)),
+        None => Held::of(layout, evaluation, assign),
     }
 }
 
@@ -1268,29 +1279,32 @@ struct Solved {
     evaluation: Evaluation,
 }
 
-/// `chain`, the solved chain of `x`, polished towards its least-squares minimum where that still
-/// holds the tolerance: the solve that found it stops as soon as a step gains little while every
-/// sample is within the tolerance ([`WITHIN_DECREASE`]), and the cuts, minimax rounds and
-/// removals that led to it aim at the tolerance, not at the lowest deviation.
+/// The solved chain of `x` (which holds the tolerance) polished towards its least-squares
+/// minimum, where that lowers its squared distances and still holds the tolerance; `None` where
+/// it does not (the chain as solved is then the answer): the solve that found it stops as soon
+/// as a step gains little while every sample is within the tolerance ([`WITHIN_DECREASE`]), and
+/// the cuts, minimax rounds and removals that led to it aim at the tolerance, not at the lowest
+/// deviation.
 fn polished(
     smooth: &SmoothInput,
     solver: &mut Solver,
     (layout, x, assign, evaluation): (&Layout, &Params, &[Vec<usize>], &Evaluation),
-    chain: Chain,
-) -> Chain {
+) -> Option<Held> {
     let (mut y, mut a) = (x.clone(), assign.to_vec());
     solver.polish = true;
     let e = solve(solver, layout, &mut y, &mut a, Some((evaluation, assign)));
     solver.polish = false;
-    let Some(e) = e else {
-        return chain;
-    };
+    let e = e?;
     // Unweighted: a removal's evaluation may be a minimax round's, whose cost is weighted.
     let squares = |e: &Evaluation| e.residuals.iter().flatten().map(|r| r * r).sum::<f64>();
     if !(squares(&e) < squares(evaluation)) {
-        return chain;
+        return None;
     }
-    held(smooth, layout, &e, &a).unwrap_or(chain)
+    holds(smooth, &e).then(|| Held {
+        layout: layout.clone(),
+        evaluation: e,
+        assign: a,
+    })
 }
 
 /// Segments on each side of a joined segment that a joint removal's solve moves with it (the
