@@ -1213,7 +1213,8 @@ fn holds(smooth: &SmoothInput, e: &Evaluation) -> bool {
 /// A part's chain that holds the tolerance ([`holds`]), kept as solved: its record
 /// ([`Held::record`]: the samples' distances to the whole chain and each α's standard error) is
 /// made only for the part's answer, not for every chain the removals and the polish pass on the
-/// way (on a median fixture stroke that record had been a twentieth of the smooth fit).
+/// way (on painting stroke 7, a stroke at the median ratio to the G1 chain, the records of the
+/// chains passed on had been a twentieth of its smooth fit).
 struct Held {
     layout: Layout,
     evaluation: Evaluation,
