@@ -861,9 +861,8 @@ fn fewer_joints(
             ) else {
                 continue;
             };
-            let (l, y, a, e) = found;
             removed_any = true;
-            (layout, x, assign, kept) = (l, y, a, e);
+            (layout, x, assign, kept) = (found.layout, found.x, found.assign, found.evaluation);
             dropped(&mut failed, &[j]);
             dropped(&mut failed_move, &[j]);
             continue 'fewer;
@@ -893,9 +892,8 @@ fn fewer_joints(
             let Some(found) = found else {
                 continue;
             };
-            let (l, y, a, e) = found;
             removed_any = true;
-            (layout, x, assign, kept) = (l, y, a, e);
+            (layout, x, assign, kept) = (found.layout, found.x, found.assign, found.evaluation);
             dropped(&mut failed, &drops);
             dropped(&mut failed_move, &drops);
             continue 'fewer;
@@ -932,17 +930,16 @@ fn dropped(flags: &mut Vec<bool>, drops: &[usize]) {
 /// The solved chain `(layout, x, assign, kept)` with the joints `drops` removed (in decreasing
 /// order, each joining the segments on its two sides) and, first, the joint of `reset` made a
 /// zero joint or given its curvature, solved locally ([`REMOVAL_REACH`] segments each side of
-/// the joined ones move, the rest of the part stays and keeps its samples' distances): its
-/// layout, unknowns, assignment and evaluation where it holds the tolerance (or does after
-/// minimax rounds, see [`holding`]). `None` otherwise.
-#[allow(clippy::type_complexity)]
+/// the joined ones move, the rest of the part stays and keeps its samples' distances): the
+/// solved chain where it holds the tolerance (or does after minimax rounds, see [`holding`]).
+/// `None` otherwise.
 fn removed(
     smooth: &SmoothInput,
     solver: &mut Solver,
     (layout, x, assign, kept): (&Layout, &Params, &[Vec<usize>], &Evaluation),
     reset: Option<Reset>,
     drops: &[usize],
-) -> Option<(Layout, Params, Vec<Vec<usize>>, Evaluation)> {
+) -> Option<Solved> {
     let (mut l, mut y, mut a) = (layout.clone(), x.clone(), assign.to_vec());
     if let Some(reset) = reset {
         let j = match reset {
@@ -988,7 +985,12 @@ fn removed(
     }
     solver.window = None;
     let (e, a, y) = tried?;
-    Some((l, y, a, e))
+    Some(Solved {
+        layout: l,
+        x: y,
+        assign: a,
+        evaluation: e,
+    })
 }
 
 /// Flat points of the chain `x` (its segments `segments`): interior joints j whose curvature is
@@ -1201,48 +1203,13 @@ fn holding(
 
 /// Whether every sample of `e` is within the tolerance of its own segment, and so of the whole
 /// chain: a sample's distance to its own segment bounds its distance to the chain from above
-/// ([`nearest_deviation`] measures the chain's for the record, [`Held::record`], once a part's
-/// answer is chosen). A distance that is not a number never holds.
+/// ([`nearest_deviation`] measures the chain's for the record, [`Solved::record`], once a
+/// part's answer is chosen). A distance that is not a number never holds.
 fn holds(smooth: &SmoothInput, e: &Evaluation) -> bool {
     e.residuals
         .iter()
         .flatten()
         .all(|r| r.abs() <= smooth.tolerance)
-}
-
-/// A part's chain that holds the tolerance ([`holds`]), kept as solved: its record
-/// ([`Held::record`]: the samples' distances to the whole chain and each α's standard error) is
-/// made only for the part's answer, not for every chain the removals and the polish pass on the
-/// way (on painting stroke 7, a stroke at the median ratio to the G1 chain, the records of the
-/// chains passed on had been a twentieth of its smooth fit).
-struct Held {
-    layout: Layout,
-    evaluation: Evaluation,
-    assign: Vec<Vec<usize>>,
-}
-
-impl Held {
-    /// The held chain of `layout`, `e` and `assign`, copied.
-    fn of(layout: &Layout, e: &Evaluation, assign: &[Vec<usize>]) -> Held {
-        Held {
-            layout: layout.clone(),
-            evaluation: e.clone(),
-            assign: assign.to_vec(),
-        }
-    }
-
-    /// The chain record, with the largest distance from a sample to its nearest segment.
-    fn record(&self, smooth: &SmoothInput) -> Chain {
-        let (e, assign) = (&self.evaluation, &self.assign);
-        let nearest = nearest_deviation(
-            smooth.input.points,
-            &e.segments,
-            assign,
-            &distances(e),
-            smooth.chord_error,
-        );
-        finish(smooth, &self.layout, e, assign, nearest)
-    }
 }
 
 /// The part's answer from the solved chain of `x` that holds the tolerance: its joints
@@ -1257,27 +1224,50 @@ fn settled(
     solver: &mut Solver,
     (layout, x, assign, evaluation): (&Layout, &Params, &[Vec<usize>], &Evaluation),
     least_squares: bool,
-) -> Held {
+) -> Solved {
+    let as_solved = || Solved {
+        layout: layout.clone(),
+        x: x.clone(),
+        assign: assign.to_vec(),
+        evaluation: evaluation.clone(),
+    };
     match fewer_joints(smooth, solver, layout, x, assign, evaluation) {
         Some(s) => {
-            polished(smooth, solver, (&s.layout, &s.x, &s.assign, &s.evaluation)).unwrap_or(Held {
-                layout: s.layout,
-                evaluation: s.evaluation,
-                assign: s.assign,
-            })
+            polished(smooth, solver, (&s.layout, &s.x, &s.assign, &s.evaluation)).unwrap_or(s)
         }
-        None if least_squares => polished(smooth, solver, (layout, x, assign, evaluation))
-            .unwrap_or_else(|| Held::of(layout, evaluation, assign)),
-        None => Held::of(layout, evaluation, assign),
+        None if least_squares => {
+            polished(smooth, solver, (layout, x, assign, evaluation)).unwrap_or_else(as_solved)
+        }
+        None => as_solved(),
     }
 }
 
-/// A solved chain: its layout, unknowns, the samples' assignment and its evaluation.
+/// A solved chain: its layout, unknowns, the samples' assignment and its evaluation. Where it
+/// holds the tolerance ([`holds`]), its record ([`Solved::record`]: the samples' distances to
+/// the whole chain and each α's standard error) is made only for the part's answer, not for
+/// every chain the removals and the polish pass on the way (on painting stroke 7, a stroke at
+/// the median ratio to the G1 chain, the records of the chains passed on had been a twentieth
+/// of its smooth fit).
 struct Solved {
     layout: Layout,
     x: Params,
     assign: Vec<Vec<usize>>,
     evaluation: Evaluation,
+}
+
+impl Solved {
+    /// The chain record, with the largest distance from a sample to its nearest segment.
+    fn record(&self, smooth: &SmoothInput) -> Chain {
+        let (e, assign) = (&self.evaluation, &self.assign);
+        let nearest = nearest_deviation(
+            smooth.input.points,
+            &e.segments,
+            assign,
+            &distances(e),
+            smooth.chord_error,
+        );
+        finish(smooth, &self.layout, e, assign, nearest)
+    }
 }
 
 /// The solved chain of `x` (which holds the tolerance) polished towards its least-squares
@@ -1290,7 +1280,7 @@ fn polished(
     smooth: &SmoothInput,
     solver: &mut Solver,
     (layout, x, assign, evaluation): (&Layout, &Params, &[Vec<usize>], &Evaluation),
-) -> Option<Held> {
+) -> Option<Solved> {
     let (mut y, mut a) = (x.clone(), assign.to_vec());
     solver.polish = true;
     let e = solve(solver, layout, &mut y, &mut a, Some((evaluation, assign)));
@@ -1301,10 +1291,11 @@ fn polished(
     if !(squares(&e) < squares(evaluation)) {
         return None;
     }
-    holds(smooth, &e).then(|| Held {
+    holds(smooth, &e).then(|| Solved {
         layout: layout.clone(),
-        evaluation: e,
+        x: y,
         assign: a,
+        evaluation: e,
     })
 }
 
