@@ -833,18 +833,16 @@ pub(super) fn levenberg_marquardt(
         }
         let decrease = e.cost - t.cost;
         let before = e.cost;
+        let within = largest_distance(&t) <= solver.tolerance;
         if solver.polish {
-            let was_within = largest_distance(e) <= solver.tolerance;
-            let now_within = largest_distance(&t) <= solver.tolerance;
-            if was_within && !now_within {
-                last_within = Some((x.clone(), e.clone(), assign.to_vec()));
-            } else if now_within {
+            if within {
                 last_within = None;
+            } else if largest_distance(e) <= solver.tolerance {
+                last_within = Some((x.clone(), e.clone(), assign.to_vec()));
             }
         }
         *x = trial;
         *e = t;
-        let within = largest_distance(e) <= solver.tolerance;
         if solver.minimax && within {
             break;
         }

@@ -1273,10 +1273,10 @@ impl Solved {
 /// The solved chain of `x` (which holds the tolerance) polished towards its least-squares
 /// minimum, where that lowers its squared distances and still holds the tolerance (a polish
 /// whose steps end beyond the tolerance ends at its last chain within it, see
-/// [`levenberg_marquardt`]); `None` where it does not (the chain as solved is then the answer): the solve that found it stops as soon
-/// as a step gains little while every sample is within the tolerance ([`WITHIN_DECREASE`]), and
-/// the cuts, minimax rounds and removals that led to it aim at the tolerance, not at the lowest
-/// deviation.
+/// [`levenberg_marquardt`]); `None` where it does not (the chain as solved is then the
+/// answer): the solve that found it stops as soon as a step gains little while every sample is
+/// within the tolerance ([`WITHIN_DECREASE`]), and the cuts, minimax rounds and removals that
+/// led to it aim at the tolerance, not at the lowest deviation.
 fn polished(
     smooth: &SmoothInput,
     solver: &mut Solver,
