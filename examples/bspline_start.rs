@@ -113,13 +113,14 @@ fn worst(points: &[Point], chain: &[LacSegment], tolerance: f64) -> f64 {
 }
 
 fn main() {
-    let mut dir: Vec<_> = std::fs::read_dir("fixtures/strokes")
-        .into_iter()
-        .flatten()
-        .flatten()
-        .map(|e| e.path())
-        .filter(|p| p.extension().is_some_and(|e| e == "json"))
-        .collect();
+    let mut dir: Vec<_> =
+        std::fs::read_dir(concat!(env!("CARGO_MANIFEST_DIR"), "/fixtures/strokes"))
+            .into_iter()
+            .flatten()
+            .flatten()
+            .map(|e| e.path())
+            .filter(|p| p.extension().is_some_and(|e| e == "json"))
+            .collect();
     dir.sort();
     // Per piece: the chain's own worst distance, then each rebuild's (NaN: not buildable).
     let mut rows: Vec<[f64; 4]> = Vec::new();
