@@ -17,13 +17,16 @@
 //! `cargo run --release --example bspline_start` (docs/performance.md, "What the targets would
 //! take").
 
+#[path = "../tests/common/mod.rs"]
+mod common;
+
+use common::{fixture, fixture_names};
 use kansei::bspline::project::Pieces;
 use kansei::chain::smooth::ZERO_END_ALPHA;
 use kansei::geom::{Point, distance_to_segment, wrap_angle};
 use kansei::lac::deviation::trace;
 use kansei::lac::segment::LacSegment;
 use kansei::pipeline::{PipelineOptions, fit_stroke};
-use kansei::stroke::StrokeFile;
 
 /// Midpoint-rule panels for the B-spline's arc length between two joints (its speed is smooth
 /// on a span between splits: far below a tolerance's worth of length).
@@ -31,6 +34,14 @@ const ARC_PANELS: usize = 64;
 
 /// Bisection steps on α (to 6/2⁶⁰ of the range: rounding).
 const ALPHA_STEPS: usize = 60;
+
+/// The α range the pipeline searches by default (`--alpha-range -3:3`).
+const ALPHA_RANGE: (f64, f64) = (-3.0, 3.0);
+
+/// A curvature a hair off zero on the chain's side, where the B-spline turns the other way at a
+/// joint the chain does not hold at κ = 0 (a segment cannot change sign): far below any drawn
+/// curvature, far above underflow in ρ^α.
+const HAIR: f64 = 1e-150;
 
 /// Chord error of the traced chains, in tolerances: far below what is measured.
 const TRACE_CHORD: f64 = 1e-3;
@@ -63,14 +74,14 @@ fn turning_to(
     let top = if k0 == 0.0 || k1 == 0.0 {
         ZERO_END_ALPHA
     } else {
-        3.0
+        ALPHA_RANGE.1
     };
     let miss = |a: f64| {
         LacSegment::new(start, theta0, length, Some(a), k0, k1)
             .ok()
             .map(|s| s.theta1() - theta0 - turn)
     };
-    let (mut lo, mut hi) = (-3.0, top);
+    let (mut lo, mut hi) = (ALPHA_RANGE.0, top);
     let (at_lo, at_hi) = (miss(lo)?, miss(hi)?);
     let alpha = if at_lo.signum() != at_hi.signum() {
         for _ in 0..ALPHA_STEPS {
@@ -113,24 +124,10 @@ fn worst(points: &[Point], chain: &[LacSegment], tolerance: f64) -> f64 {
 }
 
 fn main() {
-    let mut dir: Vec<_> =
-        std::fs::read_dir(concat!(env!("CARGO_MANIFEST_DIR"), "/fixtures/strokes"))
-            .into_iter()
-            .flatten()
-            .flatten()
-            .map(|e| e.path())
-            .filter(|p| p.extension().is_some_and(|e| e == "json"))
-            .collect();
-    dir.sort();
     // Per piece: the chain's own worst distance, then each rebuild's (NaN: not buildable).
     let mut rows: Vec<[f64; 4]> = Vec::new();
-    for path in dir {
-        let Some(file) = std::fs::read_to_string(&path)
-            .ok()
-            .and_then(|t| StrokeFile::from_json(&t).ok())
-        else {
-            continue;
-        };
+    for name in fixture_names() {
+        let file = fixture(&name);
         for (i, stroke) in file.strokes.iter().enumerate() {
             if stroke.samples.len() > 600 {
                 continue;
@@ -166,7 +163,7 @@ fn main() {
                             if own == 0.0 {
                                 0.0
                             } else if k.signum() != own.signum() {
-                                own.signum() * f64::MIN_POSITIVE.sqrt()
+                                own.signum() * HAIR
                             } else {
                                 k
                             }

@@ -14,8 +14,11 @@
 //! per-stroke instruction counts in docs/performance.md are
 //! `REPS=1 FLOOR=1 ONLY=i valgrind --tool=callgrind target/release/examples/fit_fixture_strokes
 //! <file>` minus the same with `REPS=0` (the file's parse), in each continuity.
+#[path = "../tests/common/mod.rs"]
+mod common;
+
+use common::{fixture, fixture_names};
 use kansei::pipeline::{PipelineOptions, fit_stroke};
-use kansei::stroke::StrokeFile;
 use std::time::Instant;
 
 fn main() {
@@ -24,32 +27,14 @@ fn main() {
         .ok()
         .and_then(|s| s.parse().ok())
         .unwrap_or(3);
-    let mut dir: Vec<_> =
-        std::fs::read_dir(concat!(env!("CARGO_MANIFEST_DIR"), "/fixtures/strokes"))
-            .into_iter()
-            .flatten()
-            .flatten()
-            .map(|e| e.path())
-            .filter(|p| p.extension().is_some_and(|e| e == "json"))
-            .collect();
-    dir.sort();
     let (mut strokes, mut segments) = (0usize, 0usize);
     // Sum over strokes of the chain's rms sample distance relative to the tolerance.
     let mut relative_rms = 0.0;
-    for path in dir {
-        if !args.is_empty()
-            && !args
-                .iter()
-                .any(|a| path.to_string_lossy().contains(a.as_str()))
-        {
+    for name in fixture_names() {
+        if !args.is_empty() && !args.iter().any(|a| name.contains(a.as_str())) {
             continue;
         }
-        let Ok(text) = std::fs::read_to_string(&path) else {
-            continue;
-        };
-        let Ok(file) = StrokeFile::from_json(&text) else {
-            continue;
-        };
+        let file = fixture(&name);
         let factors: Vec<f64> = std::env::var("TOLERANCE_FACTORS")
             .ok()
             .map(|v| v.split(',').filter_map(|f| f.trim().parse().ok()).collect())
@@ -116,11 +101,11 @@ fn main() {
             segments += segs;
             relative_rms += rms;
             println!(
-                "{:8.2} ms  {:4} samples {:3} segs  {}#{}  rms/tolerance {:.4}  tolerance ×{}",
+                "{:8.2} ms  {:4} samples {:3} segs  {}.json#{}  rms/tolerance {:.4}  tolerance ×{}",
                 best * 1e3,
                 s.samples.len(),
                 segs,
-                path.file_name().unwrap_or_default().to_string_lossy(),
+                name,
                 i,
                 rms,
                 factor
