@@ -11,10 +11,9 @@
 //! Its neighbours meet the first and the last line at corners too. A chain within its tolerance
 //! is never touched, and the replacement is taken only where the whole chain then holds.
 
-use super::fit::{
-    Chain, ChainInput, ChainSegment, JointKind, measured_deviation, own_points, param_interval,
-    retile, sample_range,
-};
+use super::assign::{own_points, param_interval, retile, sample_range};
+use super::measure::measured_deviation;
+use super::record::{Chain, ChainInput, ChainSegment, JointKind};
 use crate::geom::Point;
 use crate::lac::LacSegment;
 use crate::lac::alpha_search::AlphaSearch;

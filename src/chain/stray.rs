@@ -8,7 +8,7 @@
 //! them: over the recorded fixtures, in every continuity, no segment is longer than 1.005 times
 //! the polyline through its samples and the samples on either side of it, plus a tolerance.
 
-use super::fit::{Chain, ChainInput};
+use super::record::{Chain, ChainInput};
 
 /// Longest a segment may be, as a multiple of the length of the polyline through its samples
 /// and the sample on either side of it, plus the tolerance (the most a curve within the

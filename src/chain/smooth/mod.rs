@@ -115,84 +115,31 @@
 //! differenced Jacobians, `lm.rs` the constrained Levenberg–Marquardt solve with its projections
 //! and the minimax rounds. A segment that still hooks at a corner is cut in `../unhook.rs`.
 
-use super::band::{Band, BandCholesky};
-use super::band_lu::BandMatrix;
-use super::fit::{
-    Chain, ChainInput, ChainSegment, JointKind, measured_deviation, nearest_deviation, own_points,
-    param_interval, retile, soften_fits, tile_ranges,
-};
+use super::assign::{own_points, param_interval, retile, tile_ranges};
+use super::measure::{measured_deviation, nearest_deviation};
+use super::record::{Chain, ChainInput, ChainSegment, Continuity, JointKind};
+use super::soften::soften_fits;
+use super::solve::band::{Band, BandCholesky};
+use super::solve::band_lu::BandMatrix;
 use crate::bspline::project::Pieces;
 use crate::geom::{Point, Vec2};
 use crate::lac::alpha_search::SpanFitOptions;
 use crate::lac::deviation::{deviation, deviation_near};
 use crate::lac::{AlphaChoice, LacError, LacSegment};
 use nalgebra::DVector;
-use serde::{Deserialize, Serialize};
 
 mod jacobian;
 mod layout;
 mod lm;
 mod solver;
 mod start;
+mod unhook;
 
 use jacobian::*;
 use layout::*;
 use lm::*;
 use solver::*;
 use start::*;
-
-/// Continuity at the smooth (non-corner) joints of a chain.
-///
-/// Ordered from the weakest: `G1 < G2 < C3`.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, PartialOrd, Ord, Serialize, Deserialize)]
-#[serde(rename_all = "lowercase")]
-pub enum Continuity {
-    /// Position and tangent (the seed paper's chains).
-    G1,
-    /// Position, tangent and curvature: the default (a curve the smooth fit cannot hold within
-    /// its tolerance stays G1 and says so).
-    #[default]
-    G2,
-    /// Position, tangent, curvature and its arc-length derivative dκ/ds: a continuous
-    /// logarithmic curvature graph across the joint (compound rhythm).
-    C3,
-}
-
-impl Continuity {
-    /// Every mode's name, as the CLI, the service and the documents spell it.
-    pub const NAMES: [&'static str; 3] = ["g1", "g2", "c3"];
-
-    /// The mode's name (`g1`, `g2`, `c3`).
-    pub fn name(self) -> &'static str {
-        match self {
-            Continuity::G1 => "g1",
-            Continuity::G2 => "g2",
-            Continuity::C3 => "c3",
-        }
-    }
-}
-
-impl std::str::FromStr for Continuity {
-    type Err = String;
-
-    fn from_str(s: &str) -> Result<Self, String> {
-        match s.to_ascii_lowercase().as_str() {
-            "g1" => Ok(Continuity::G1),
-            "g2" => Ok(Continuity::G2),
-            "c3" => Ok(Continuity::C3),
-            _ => Err(format!(
-                "continuity must be one of {}, got {s:?}",
-                Continuity::NAMES.join(", ")
-            )),
-        }
-    }
-}
-
-impl std::fmt::Display for Continuity {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        f.write_str(self.name())
-    }
-}
 
 /// Largest α of a segment with a zero-curvature end. ρ^α must reach 0 there, which needs α < 0;
 /// close to 0 the segment's curvature leaves zero so steeply (κ ∝ s^{−1/α}) that its evaluation
@@ -451,7 +398,7 @@ pub(crate) fn smooth_chain(smooth: &SmoothInput) -> Option<Chain> {
         if soften_isolated(smooth, &mut segment, &own, cap) {
             refitted = true;
             straightened.push(segment);
-        } else if let Some(replacement) = super::unhook::unhook(smooth, &segment, &own, cap) {
+        } else if let Some(replacement) = unhook::unhook(smooth, &segment, &own, cap) {
             refitted = true;
             straightened.extend(replacement);
         } else {
@@ -483,7 +430,7 @@ pub(crate) fn smooth_chain(smooth: &SmoothInput) -> Option<Chain> {
 /// Most samples a tail of the G1 chain may hold at the stroke's end (`without_end_tail`): a
 /// hook's (`unhook::MAX_HOOK_SAMPLES`) and the two samples it turns from, beyond which a
 /// run of tight segments is a drawn curl, not an artefact of the stroke's end.
-pub const MAX_TAIL_SAMPLES: usize = super::unhook::MAX_HOOK_SAMPLES + 2;
+pub const MAX_TAIL_SAMPLES: usize = unhook::MAX_HOOK_SAMPLES + 2;
 
 /// `segments` (a G1 chain) without its end tail, where it has one: at the stroke's own end,
 /// the run of segments that each touch a joint bending beyond `cap` (a joint the smooth chain
@@ -597,8 +544,9 @@ fn soften_isolated(smooth: &SmoothInput, s: &mut ChainSegment, list: &[usize], c
     let d = &fit.deviation;
     s.alpha_uncertainty =
         smooth_alpha_uncertainty(smooth, &fit.segment, list, &d.signed_distances(), &d.feet);
-    s.alpha_bound = super::AlphaBound::of(fit.segment.alpha(), smooth.alpha);
-    s.alpha_source = super::AlphaSource::of_g1(fit.segment.alpha(), &fit.search, smooth.alpha);
+    s.alpha_bound = crate::chain::AlphaBound::of(fit.segment.alpha(), smooth.alpha);
+    s.alpha_source =
+        crate::chain::AlphaSource::of_g1(fit.segment.alpha(), &fit.search, smooth.alpha);
     s.segment = fit.segment;
     s.max_deviation = d.max;
     s.rms_deviation = d.rms;
@@ -1392,8 +1340,11 @@ fn finish(
                 max_deviation: max,
                 rms_deviation: rms,
                 search: smooth.chain.segments[layout.origin[k]].search.clone(),
-                alpha_source: super::AlphaSource::of_smooth(e.segments[k].alpha(), smooth.alpha),
-                alpha_bound: super::AlphaBound::of(e.segments[k].alpha(), smooth.alpha),
+                alpha_source: crate::chain::AlphaSource::of_smooth(
+                    e.segments[k].alpha(),
+                    smooth.alpha,
+                ),
+                alpha_bound: crate::chain::AlphaBound::of(e.segments[k].alpha(), smooth.alpha),
                 alpha_uncertainty: smooth_alpha_uncertainty(
                     smooth,
                     &e.segments[k],
@@ -1459,7 +1410,7 @@ pub(super) fn smooth_alpha_uncertainty(
         );
         Some(d.signed_distances())
     };
-    let step = super::ALPHA_DIFFERENCE_STEP;
+    let step = crate::chain::ALPHA_DIFFERENCE_STEP;
     let (minus, plus) = (signed(alpha - step), signed(alpha + step));
-    super::alpha_uncertainty(residuals, minus.as_deref(), plus.as_deref())
+    crate::chain::alpha_uncertainty(residuals, minus.as_deref(), plus.as_deref())
 }

@@ -24,8 +24,8 @@
 //! shorter, and the whole chain stalls. One edge is not enough either: a near-straight segment's
 //! region is a wedge narrower than a step.
 
-use super::band::{Band, BandCholesky};
 use super::state::{Evaluated, Joint, State, cost, model_at_feet, model_at_own_feet};
+use crate::chain::solve::band::{Band, BandCholesky};
 use crate::geom::{Point, Vec2};
 use crate::lac::sensitivity::{Sensitivity, sensitivities};
 use crate::lac::yoshida_saito::{edge_margins, mirror};

@@ -10,7 +10,7 @@ use crate::lac::deviation::{Deviation, deviation_near, points_at};
 use crate::lac::yoshida_saito::{drawable_margin, fit_g1_probe};
 use crate::lac::{LacError, LacSegment, deviation, fit_g1_near, within};
 
-use super::JointKind;
+use crate::chain::JointKind;
 
 /// A drawable margin (radians) below minus this is outside the region beyond doubt: far above
 /// the series' rounding (~1e-13 rad, see [`drawable_margin`]), far below any step a refinement

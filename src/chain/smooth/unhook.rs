@@ -21,9 +21,11 @@
 //! is taken); the chain gains one G0 joint per hook, never a segment bending beyond the bound.
 //! Where none works the segment is kept as it is.
 
-use super::fit::{ChainSegment, JointKind, param_interval, sample_range, soften_fits};
-use super::smooth::SmoothInput;
-use super::{AlphaBound, AlphaSource};
+use super::SmoothInput;
+use crate::chain::assign::{param_interval, sample_range};
+use crate::chain::record::{ChainSegment, JointKind};
+use crate::chain::soften::soften_fits;
+use crate::chain::{AlphaBound, AlphaSource};
 use crate::geom::{Point, Vec2};
 use crate::lac::LacSegment;
 use crate::lac::alpha_search::{AlphaSearch, fit_span};
@@ -153,7 +155,7 @@ pub(super) fn unhook(
             end: if at_start { s.end } else { JointKind::Corner },
             params: param_interval(input.params, rest_list),
             alpha_bound: AlphaBound::of(fit.segment.alpha(), smooth.alpha),
-            alpha_uncertainty: super::smooth::smooth_alpha_uncertainty(
+            alpha_uncertainty: super::smooth_alpha_uncertainty(
                 smooth,
                 &fit.segment,
                 rest_list,

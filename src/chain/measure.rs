@@ -1,0 +1,193 @@
+//! Every distance the chain is judged by: the resolution a fit works at ([`Resolution`]), and the
+//! largest distance from a sample to the chain.
+
+use super::record::{ChainInput, ChainSegment};
+use crate::geom::Point;
+use crate::lac::LacSegment;
+use crate::lac::deviation::deviation;
+
+/// Distances are seeded on a polyline whose chord error is this fraction of the tolerance, then
+/// polished to exact foot points; the α search ranks candidates at ten times it.
+const CHORD_ERROR_FRACTION: f64 = 1e-3;
+
+/// Smallest radius of curvature a segment may have, as a fraction of the tolerance: a curve
+/// bending within a hundredth of the tolerance turns inside a disc the samples cannot resolve
+/// (a corner, not a curve), and such radii (seen: 4e-12 px at the drawable region's edge) also
+/// take the segment's evaluation past the accuracy its record promises.
+const MIN_RADIUS_FRACTION: f64 = 1e-2;
+
+/// The scale a chain is fitted and measured at, all of it from the tolerance: how far a sample
+/// may lie from its segment, how finely distances are evaluated, and how tightly a segment may
+/// bend before it turns inside a disc the samples cannot resolve.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(crate) struct Resolution {
+    /// Largest distance from a sample to the chain.
+    pub tolerance: f64,
+    /// Chord error of the distance evaluations ([`CHORD_ERROR_FRACTION`] of the tolerance).
+    pub chord_error: f64,
+    /// Largest curvature a segment may have (a radius of [`MIN_RADIUS_FRACTION`] of the
+    /// tolerance).
+    pub max_curvature: f64,
+}
+
+impl Resolution {
+    /// The resolution of `tolerance`.
+    pub(crate) fn new(tolerance: f64) -> Self {
+        Resolution {
+            tolerance,
+            chord_error: CHORD_ERROR_FRACTION * tolerance,
+            max_curvature: 1.0 / (MIN_RADIUS_FRACTION * tolerance),
+        }
+    }
+}
+
+/// The largest distance from a point to the chain `segments` (its nearest segment), each
+/// segment's own points `lists` ([`own_points`]) measured afresh: for a chain assembled from
+/// parts or edited after its fit, whose recorded figures no longer hold.
+pub(crate) fn measured_deviation(
+    input: &ChainInput,
+    segments: &[ChainSegment],
+    lists: &[Vec<usize>],
+    chord_error: f64,
+) -> f64 {
+    let own: Vec<Vec<f64>> = segments
+        .iter()
+        .zip(lists)
+        .map(|(s, list)| {
+            let points: Vec<Point> = list.iter().map(|&i| input.points[i]).collect();
+            deviation(&s.segment, &points, chord_error).distances
+        })
+        .collect();
+    let curves: Vec<LacSegment> = segments.iter().map(|s| s.segment).collect();
+    nearest_deviation(input.points, &curves, lists, &own, chord_error)
+}
+
+/// minimum.
+/// The distance from `q` to `segment` found from its trace (a polyline through its points within
+/// the chord error of it, [`crate::lac::deviation::trace`], computed once per segment by the
+/// caller): the global distance to the segment, where a foot-point search may settle on a local
+fn traced_distance(segment: &LacSegment, trace: &[(f64, Point)], q: Point) -> f64 {
+    let mut best = (f64::INFINITY, 0.0);
+    let mut previous: Option<(Point, f64)> = None;
+    for &(sb, b) in trace {
+        let (a, sa) = previous.unwrap_or((b, sb));
+        let (d, f) = crate::lac::deviation::segment_distance(q, a, b);
+        if d < best.0 {
+            best = (d, sa + f * (sb - sa));
+        }
+        previous = Some((b, sb));
+    }
+    // The trace lies within the chord error of the curve, so its distance can fall short of the
+    // curve's by that much: the foot is found on the curve from the trace's nearest point (the
+    // curve's point there where that search does not settle), a distance to a point of the
+    // curve, never below the true one.
+    let at = best.1;
+    crate::lac::deviation::deviation_near(segment, &[q], &[at])
+        .map_or_else(|| q.distance(segment.point(at)), |d| d.max)
+}
+
+/// The largest distance from a sample to the chain (its nearest segment), given each
+/// segment's samples (`samples[k]`, indices into `points`) and their distances to it (`own`).
+/// A sample's distance to its own segment bounds its distance to the chain from above, so the
+/// samples are taken farthest from their own segment first, each measured against the others
+/// too, until the next one's own distance cannot beat the largest found: usually after one or
+/// two.
+pub(crate) fn nearest_deviation(
+    points: &[Point],
+    segments: &[LacSegment],
+    samples: &[Vec<usize>],
+    own: &[Vec<f64>],
+    chord_error: f64,
+) -> f64 {
+    let mut order: Vec<(f64, usize)> = Vec::new();
+    for (list, distances) in samples.iter().zip(own) {
+        for (&i, &d) in list.iter().zip(distances) {
+            order.push((d, i));
+        }
+    }
+    order.sort_by(|x, y| y.0.total_cmp(&x.0));
+    let mut worst: f64 = 0.0;
+    // Each segment's trace, made the first time a sample asks for it.
+    let mut traces: Vec<Option<Vec<(f64, Point)>>> = vec![None; segments.len()];
+    for &(d, i) in &order {
+        if d <= worst {
+            break;
+        }
+        // Its own segment too: a residual is the distance to a local foot point (Newton from a
+        // seed along the segment), which on a tightly curling segment need not be the nearest
+        // one (seen: 2.16 px from a sample lying on the segment's end).
+        let q = points[i];
+        let mut nearest = d;
+        for (segment, trace) in segments.iter().zip(&mut traces) {
+            // Every point of a segment lies within half its length of its middle.
+            let length = segment.length();
+            if q.distance(segment.point(0.5 * length)) - 0.5 * length >= nearest {
+                continue;
+            }
+            let local = deviation(segment, &[q], chord_error).max;
+            let trace =
+                trace.get_or_insert_with(|| crate::lac::deviation::trace(segment, chord_error));
+            nearest = nearest.min(local).min(traced_distance(segment, trace, q));
+        }
+        worst = worst.max(nearest);
+    }
+    worst
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::geom::Vec2;
+
+    /// The largest distance from a sample to the chain is at most the largest distance from a
+    /// sample to its own segment (which the smooth fit relies on to tell a chain holds the
+    /// tolerance without measuring it against the other segments), and is the true one: a
+    /// sample that its own segment passes far from but another passes near counts at the
+    /// nearer distance.
+    #[test]
+    fn the_chain_distance_is_the_nearest_segment_and_bounded_by_the_own() {
+        let chord_error = 1e-4;
+        // A log-aesthetic segment and a line back along beside it (a hairpin).
+        let curve = LacSegment::new(Point::new(0.0, 0.0), 0.0, 40.0, Some(0.5), 0.02, 0.05)
+            .expect("a valid segment");
+        let back = curve.end();
+        let line = LacSegment::new(back, std::f64::consts::PI, 30.0, None, 0.0, 0.0)
+            .expect("a valid line");
+        let segments = [curve, line];
+        let points: Vec<Point> = (0..12)
+            .map(|i| {
+                let s = 3.0 * i as f64 + 1.0;
+                curve.point(s) + Vec2::new(0.1 * (i as f64).sin(), 0.2 * (i as f64 * 0.7).cos())
+            })
+            .chain((0..8).map(|i| line.point(3.0 * i as f64 + 2.0) + Vec2::new(0.0, 0.3)))
+            .collect();
+        // The last curve sample handed to the line, which passes far from it.
+        let samples = vec![(0..11).collect::<Vec<usize>>(), (11..20).collect()];
+        let own: Vec<Vec<f64>> = samples
+            .iter()
+            .zip(&segments)
+            .map(|(list, seg)| {
+                list.iter()
+                    .map(|&i| deviation(seg, &[points[i]], chord_error).max)
+                    .collect()
+            })
+            .collect();
+        let largest_own = own.iter().flatten().fold(0.0_f64, |m, &d| m.max(d));
+        let nearest = nearest_deviation(&points, &segments, &samples, &own, chord_error);
+        let brute = points
+            .iter()
+            .map(|&q| {
+                segments
+                    .iter()
+                    .map(|seg| deviation(seg, &[q], chord_error).max)
+                    .fold(f64::INFINITY, f64::min)
+            })
+            .fold(0.0_f64, f64::max);
+        assert!(nearest <= largest_own, "{nearest} > {largest_own}");
+        assert!(
+            largest_own > 2.0 * brute,
+            "the handed sample is far from its own segment"
+        );
+        assert!((nearest - brute).abs() <= 1e-9, "{nearest} against {brute}");
+    }
+}
