@@ -1,7 +1,10 @@
 //! The Jacobians of the residuals and of the joint equations, by differences of the segments an
 //! unknown moves.
 
-use super::*;
+use super::layout::{Form, Layout, Params, Var, get, perp, restore, set};
+use super::solver::{Evaluation, Solver, c3_gap};
+use crate::geom::{Point, Vec2};
+use crate::lac::LacSegment;
 
 /// Forward-difference step of the unknowns (angles in radians, logs of curvatures and lengths,
 /// α): 1e-6 is √ε times the relative accuracy of the evaluation (~1e-12), the step that
@@ -78,7 +81,7 @@ impl ConstraintJacobian {
 /// with the end pose of the last reshaped one, so the chain's end moves by
 /// δE + δθ·(Pₑ − E)^⊥ (E, θ that end pose); a C3 gap changes only where a reshaped segment meets
 /// it. `None` where a differenced segment cannot be built.
-fn forward_constraint_jacobian(
+pub(super) fn forward_constraint_jacobian(
     solver: &Solver,
     layout: &Layout,
     x: &Params,

@@ -1,7 +1,11 @@
 //! The unknowns of a smooth chain and where each sits: [`Params`], [`Var`], [`Layout`] (which
 //! joints are free, which α, the two forms of the chain).
 
-use super::*;
+use super::BOUND_SLACK;
+use crate::chain::record::JointKind;
+use crate::geom::{Point, Vec2};
+use crate::lac::{LacError, LacSegment};
+use nalgebra::DVector;
 
 /// The unknowns of a chain.
 #[derive(Clone, Debug)]

@@ -1,7 +1,16 @@
 //! The constrained Levenberg–Marquardt solve, its projection onto the joint equations and the
 //! minimax rounds.
 
-use super::*;
+use super::END_TOLERANCE;
+use super::jacobian::{
+    ConstraintJacobian, ResidualJacobian, constraint_jacobian, shooting_jacobian,
+};
+use super::layout::{Form, Layout, Params, Var, moved};
+use super::solver::{Evaluation, Solver, largest_distance, reassigned};
+use crate::chain::solve::band::{Band, BandCholesky};
+use crate::chain::solve::band_lu::BandMatrix;
+use crate::lac::LacSegment;
+use nalgebra::DVector;
 
 /// Iterations of one Levenberg–Marquardt solve. Each accepted step lowers the squared distances;
 /// from the G1 chain, 10–20 steps reach the minimum to the stopping rule below.
@@ -48,7 +57,7 @@ pub(super) const POLISH_SIGNIFICANCE: f64 = 3e-2;
 
 /// The decrease of the cost `cost` of a chain assigned as `e`, with `free` free unknowns, below
 /// which a polish step ends the solve (see [`POLISH_SIGNIFICANCE`]).
-fn polish_stop(cost: f64, e: &Evaluation, free: usize) -> f64 {
+pub(super) fn polish_stop(cost: f64, e: &Evaluation, free: usize) -> f64 {
     let samples = e.residuals.iter().map(Vec::len).sum::<usize>();
     match samples.checked_sub(free) {
         Some(dof) if dof > 0 => cost * POLISH_DECREASE.max(POLISH_SIGNIFICANCE / dof as f64),
@@ -76,7 +85,7 @@ pub(super) const EXTENSION_REACH: f64 = 1.0;
 
 /// Whether a sample of `e` lies on a segment's extension more than [`EXTENSION_REACH`] of the
 /// segment's length past its end (or before its start).
-fn beyond_reach(e: &Evaluation) -> bool {
+pub(super) fn beyond_reach(e: &Evaluation) -> bool {
     e.segments.iter().zip(&e.feet).any(|(segment, feet)| {
         let length = segment.length();
         let reach = EXTENSION_REACH * length;
@@ -950,6 +959,7 @@ pub(super) fn laid_forward(
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::geom::{Point, Vec2};
     use nalgebra::DMatrix;
 
     /// The unknowns reaching each of four segments as a chain's do (a joint's unknowns reach

@@ -1,7 +1,12 @@
 //! A smooth chain measured against its samples: the residuals, the joint equations and the
 //! samples' assignment to segments ([`Solver`], [`Evaluation`]).
 
-use super::*;
+use super::layout::{Form, Params, Var, normal, perp};
+use super::{C3_TOLERANCE, END_TOLERANCE};
+use crate::geom::{Point, Vec2};
+use crate::lac::deviation::deviation_near;
+use crate::lac::{LacSegment, deviation};
+use nalgebra::DVector;
 
 /// The samples' signed distances to a chain, with their feet.
 #[derive(Clone, Debug)]
@@ -408,7 +413,7 @@ impl EndPose {
 /// Newton steps on a sample's foot on a segment's extension ([`EndPose::foot`]): within a few
 /// sample spacings of the end the extension is nearly straight and two steps settle it; the
 /// third makes the foot's error negligible against the distance's.
-const EXTENSION_NEWTON_STEPS: usize = 3;
+pub(super) const EXTENSION_NEWTON_STEPS: usize = 3;
 
 /// The samples `points` of segment `seg` whose foot is an end at an interior joint (`ends`:
 /// whether its start, its end is one) with the sample beyond it, measured against the
@@ -418,7 +423,7 @@ const EXTENSION_NEWTON_STEPS: usize = 3;
 /// that segment would measure it, and its distance changes smoothly as the joint slides past
 /// it (measured against the end point it has a kink where the end passes the sample's foot,
 /// which the linear model of a Levenberg–Marquardt step cannot see: see [`Solver::extend`]).
-fn extend_feet(
+pub(super) fn extend_feet(
     seg: &LacSegment,
     (at_start, at_end): (bool, bool),
     points: impl Iterator<Item = Point>,

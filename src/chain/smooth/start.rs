@@ -1,6 +1,13 @@
 //! The smooth fit's starting chain from the G1 one, and the cuts of a segment that misses.
 
-use super::*;
+use super::layout::{Layout, Params, normal};
+use super::part::JointStart;
+use super::solver::Evaluation;
+use super::{BOUND_SLACK, MAX_EXTRA_TURNING, MAX_LENGTH_FACTOR, SmoothInput, ZERO_END_ALPHA};
+use crate::bspline::project::Pieces;
+use crate::chain::record::{ChainSegment, JointKind};
+use crate::geom::Point;
+use crate::lac::{AlphaChoice, LacSegment, deviation};
 
 /// The α of a second start (see [`smooth_from`]): each segment's G1 α where it lies inside the
 /// segment's α bounds, the first start's elsewhere; `None` unless some segment of the fitted

@@ -22,6 +22,7 @@
 //! Where none works the segment is kept as it is.
 
 use super::SmoothInput;
+use super::finish::smooth_alpha_uncertainty;
 use crate::chain::assign::{param_interval, sample_range};
 use crate::chain::record::{ChainSegment, JointKind};
 use crate::chain::soften::soften_fits;
@@ -155,7 +156,7 @@ pub(super) fn unhook(
             end: if at_start { s.end } else { JointKind::Corner },
             params: param_interval(input.params, rest_list),
             alpha_bound: AlphaBound::of(fit.segment.alpha(), smooth.alpha),
-            alpha_uncertainty: super::smooth_alpha_uncertainty(
+            alpha_uncertainty: smooth_alpha_uncertainty(
                 smooth,
                 &fit.segment,
                 rest_list,
@@ -176,7 +177,7 @@ pub(super) fn unhook(
 /// stroke order), with `s`'s joint kinds where it shares an end with `s` and a corner
 /// elsewhere; `None` where a sample lies beyond the tolerance or the ends coincide. Without
 /// samples it holds none (no parameter interval; the caller sets its one-sample range).
-fn line_segment(
+pub(super) fn line_segment(
     smooth: &SmoothInput,
     s: &ChainSegment,
     a: Point,
