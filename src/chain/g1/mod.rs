@@ -10,14 +10,6 @@
 //! ([`repair`]); runs a line holds become one line and neighbours one segment covers are merged
 //! ([`merge`]); [`finish`] writes the record.
 
-mod finish;
-mod merge;
-pub(crate) mod refine;
-mod repair;
-pub(crate) mod state;
-
-use rustc_hash::FxHashSet;
-
 use crate::bspline::project::Pieces;
 use crate::chain::measure::Resolution;
 use crate::chain::record::{Chain, ChainError, ChainInput, ChainOptions, Continuity, JointKind};
@@ -30,7 +22,16 @@ use crate::lac::{
 };
 use crate::split::SplitKind;
 use refine::{CONVERGED_RMS, RefineOptions, STARTING_CONVERGED_RMS, refine};
+use rustc_hash::FxHashSet;
 use state::{Joint, SegmentKey, State};
+
+mod edges;
+mod finish;
+mod jacobian;
+mod merge;
+pub(crate) mod refine;
+mod repair;
+pub(crate) mod state;
 
 /// A span holding fewer samples than this is fitted against points of its B-spline instead
 /// (evenly spaced in the parameter): with one or two samples the α search has nothing to choose

@@ -24,11 +24,11 @@
 //! shorter, and the whole chain stalls. One edge is not enough either: a near-straight segment's
 //! region is a wedge narrower than a step.
 
-use super::state::{Evaluated, Joint, State, cost, model_at_feet, model_at_own_feet};
-use crate::chain::solve::band::{Band, BandCholesky};
-use crate::geom::{Point, Vec2};
-use crate::lac::sensitivity::{Sensitivity, sensitivities};
-use crate::lac::yoshida_saito::{edge_margins, mirror};
+use super::state::{Evaluated, State, cost};
+use crate::chain::g1::edges::{EdgeConstraint, keep_inside};
+use crate::chain::g1::jacobian::jacobian;
+use crate::chain::solve::band::Band;
+use crate::geom::Point;
 
 /// Options of [`refine`].
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -54,31 +54,31 @@ pub(crate) struct RefineOptions {
 /// classic optimum for forward differences of a function exact to rounding (the reference
 /// Jacobian of the tests; the refinement's own takes positions analytically).
 #[cfg(test)]
-const POSITION_STEP: f64 = 1e-7;
+pub(super) const POSITION_STEP: f64 = 1e-7;
 /// Finite-difference step on a tangent angle (radians).
-const ANGLE_STEP: f64 = 1e-7;
+pub(super) const ANGLE_STEP: f64 = 1e-7;
 /// Finite-difference step on α.
-const ALPHA_STEP: f64 = 1e-6;
+pub(super) const ALPHA_STEP: f64 = 1e-6;
 /// Initial damping relative to the diagonal of JᵀJ. The first step from the α search's chain
 /// is rarely in the Gauss–Newton regime (α moves far along the directions the data barely see):
 /// over the fixture strokes up to 600 samples, 1e-2 takes 1.5 % fewer instructions on the median
 /// stroke than 1e-3 for 13 fewer segments in 778 and the same rms distance (1e-1: 2 % fewer
 /// again, but a 1 % higher rms distance).
-const LAMBDA_START: f64 = 1e-2;
+pub(super) const LAMBDA_START: f64 = 1e-2;
 /// Damping beyond which no step can help any more (the step has shrunk to rounding).
-const LAMBDA_MAX: f64 = 1e12;
+pub(super) const LAMBDA_MAX: f64 = 1e12;
 /// Damping growth after a rejected step: ×10 reaches a short, safe step within a few trials
 /// (each trial re-evaluates the whole chain).
-const LAMBDA_GROWTH: f64 = 10.0;
+pub(super) const LAMBDA_GROWTH: f64 = 10.0;
 /// Rejected trials per iteration before the refinement stops: after eight the step is 1e-8 of
 /// the Gauss–Newton one, and no useful descent is left.
-const MAX_TRIES: usize = 8;
+pub(super) const MAX_TRIES: usize = 8;
 /// Relative cost decrease below which the iteration has converged: a tenth of a percent of the
 /// sum of squared distances moves the rms distance by 0.05 %, invisible against any tolerance;
 /// iterating on costs time for nothing. Over the fixture strokes up to 600 samples 1e-3 takes
 /// 12 % fewer instructions than 1e-4 for 2 more segments in 1 170, and the planted-α tests hold
 /// their 0.05.
-const CONVERGED: f64 = 1e-3;
+pub(super) const CONVERGED: f64 = 1e-3;
 /// An iteration that lowers the rms sample distance by less than this share of the tolerance has
 /// converged too: one percent of the tolerance is far below the pen's noise and invisible against
 /// the guarantee, and the iterations after it crawl (most refinements of the fixture strokes then
@@ -94,10 +94,10 @@ pub(crate) const STARTING_CONVERGED_RMS: f64 = 0.05;
 /// Margin (radians of chord angle, see [`drawable_margin`]) a step keeps from a drawable-region
 /// edge it is held away from: a hundred times the angle probe, so that the next Jacobian's probes
 /// stay buildable. A segment already closer keeps its margin instead of losing it.
-const EDGE_MARGIN: f64 = 1e-5;
+pub(super) const EDGE_MARGIN: f64 = 1e-5;
 /// Finite-difference step of a margin gradient on a position, relative to the chord (the margin
 /// is invariant under scaling).
-const MARGIN_POSITION_STEP: f64 = 1e-7;
+pub(super) const MARGIN_POSITION_STEP: f64 = 1e-7;
 
 /// Longest segment a refinement step may make, as a multiple of the chain's scale
 /// ([`RefineOptions::scale`]: the length of its joints' polyline when the chain's refinements
@@ -107,7 +107,7 @@ const MARGIN_POSITION_STEP: f64 = 1e-7;
 /// length 9e13 and 1.8e12 whose loops met samples 50 and 51, and the export of such a segment
 /// never ended). Over the fixture strokes up to 600 samples it turns down a step or two (the
 /// mean rms distance moves from 0.2328 to 0.2329 of the tolerance).
-const MAX_LENGTH_FACTOR: f64 = 10.0;
+pub(super) const MAX_LENGTH_FACTOR: f64 = 10.0;
 
 /// Farthest a refinement step may take a joint from the B-spline near the parameter it was made
 /// at, in tolerances. The chain is held to its samples only (the distance runs from each sample
@@ -121,7 +121,7 @@ pub(crate) const MAX_JOINT_OFF_CURVE: f64 = 4.0;
 
 /// Whether no joint of `trial` is farther than [`MAX_JOINT_OFF_CURVE`] tolerances from the
 /// B-spline near its parameter, unless it already was in `current` and has not moved farther.
-fn near_curve(
+pub(super) fn near_curve(
     trial: &State<'_>,
     current: &State<'_>,
     options: &RefineOptions,
@@ -138,7 +138,7 @@ fn near_curve(
 
 /// Whether every segment of an evaluated trial is at most [`MAX_LENGTH_FACTOR`] times the
 /// chain's scale long.
-fn bounded(evaluated: &[Evaluated], options: &RefineOptions) -> bool {
+pub(super) fn bounded(evaluated: &[Evaluated], options: &RefineOptions) -> bool {
     evaluated
         .iter()
         .all(|e| e.segment.length() <= MAX_LENGTH_FACTOR * options.scale)
@@ -146,7 +146,7 @@ fn bounded(evaluated: &[Evaluated], options: &RefineOptions) -> bool {
 
 /// One unknown.
 #[derive(Clone, Copy, Debug, PartialEq)]
-enum Unknown {
+pub(super) enum Unknown {
     X(usize),
     Y(usize),
     Angle(usize),
@@ -157,7 +157,7 @@ enum Unknown {
 /// contiguous range of unknown indices its residuals depend on. With `active` (one flag per
 /// segment), only the segments flagged may change: their α, and the joints all of whose
 /// segments are flagged; the others get an empty range.
-fn unknowns(
+pub(super) fn unknowns(
     state: &State<'_>,
     options: &RefineOptions,
     active: Option<&[bool]>,
@@ -196,7 +196,7 @@ fn unknowns(
 }
 
 /// The segments an unknown moves.
-fn touched(unknown: Unknown, segments: usize) -> std::ops::Range<usize> {
+pub(super) fn touched(unknown: Unknown, segments: usize) -> std::ops::Range<usize> {
     match unknown {
         Unknown::X(j) | Unknown::Y(j) | Unknown::Angle(j) => {
             j.saturating_sub(1)..(j + 1).min(segments)
@@ -207,7 +207,12 @@ fn touched(unknown: Unknown, segments: usize) -> std::ops::Range<usize> {
 
 /// Whether `unknown` is an α on an end of its range (within [`ALPHA_BOUND_SLACK`]) that a step
 /// of `delta` would push beyond it.
-fn pushes_beyond(state: &State<'_>, unknown: Unknown, delta: f64, options: &RefineOptions) -> bool {
+pub(super) fn pushes_beyond(
+    state: &State<'_>,
+    unknown: Unknown,
+    delta: f64,
+    options: &RefineOptions,
+) -> bool {
     let (Unknown::Alpha(k), Some((lo, hi))) = (unknown, options.alpha_range) else {
         return false;
     };
@@ -218,9 +223,9 @@ fn pushes_beyond(state: &State<'_>, unknown: Unknown, delta: f64, options: &Refi
 
 /// An α within this of an end of its range is on it (α is dimensionless; the search's own
 /// resolution is far coarser).
-const ALPHA_BOUND_SLACK: f64 = 1e-9;
+pub(super) const ALPHA_BOUND_SLACK: f64 = 1e-9;
 
-fn add(state: &mut State<'_>, unknown: Unknown, delta: f64, options: &RefineOptions) {
+pub(super) fn add(state: &mut State<'_>, unknown: Unknown, delta: f64, options: &RefineOptions) {
     match unknown {
         Unknown::X(j) => state.joints[j].p.x += delta,
         Unknown::Y(j) => state.joints[j].p.y += delta,
@@ -235,7 +240,7 @@ fn add(state: &mut State<'_>, unknown: Unknown, delta: f64, options: &RefineOpti
 }
 
 #[cfg(test)]
-fn step_of(unknown: Unknown, options: &RefineOptions) -> f64 {
+pub(super) fn step_of(unknown: Unknown, options: &RefineOptions) -> f64 {
     match unknown {
         Unknown::X(_) | Unknown::Y(_) => POSITION_STEP * options.scale,
         Unknown::Angle(_) => ANGLE_STEP,
@@ -396,356 +401,8 @@ pub(crate) fn refine(
     })
 }
 
-/// The Jacobian of the residuals, one dense block per segment (rows: its sample residuals then
-/// its end anchors; columns: its range of unknowns), at the first-order model of the current
-/// state (see [`State::residuals_near`]).
-///
-/// Only three columns per segment need a construction: its two tangent angles and its α, by
-/// forward differences. The four position columns follow from the similarity covariance of the
-/// Yoshida–Saito segment. Moving the start A by δ with B and both tangents held splits δ into
-/// u along ê = (A − B)/|A − B| and v along n̂ = ê rotated by 90°: the u part scales the segment
-/// about B by σ = u/|A − B| (the tangents are unchanged, so the scaled segment is the new one);
-/// the v part rotates it about B by ω = v/|A − B|, which also turns both tangents by ω, undone
-/// by turning them back by −ω. At a sample row with curve point P and measuring direction d
-/// (the first-order model moves the foot along the curve, which leaves the residual unchanged to
-/// first order), the column is therefore
-///
-/// ∂r/∂δ = −(σ·(P − B) + ω·J(P − B))·d − ω·(∂r/∂θ_A + ∂r/∂θ_B),
-///
-/// J the quarter turn, and likewise for the end B about A. The end anchors (q − A)·T_A are
-/// differentiated exactly: −T_A for the position, (q − A)·N_A for the angle. Seven
-/// constructions per segment and iteration become three.
-fn jacobian(
-    state: &State<'_>,
-    current: &[Evaluated],
-    unknowns: &[Unknown],
-    ranges: &[std::ops::Range<usize>],
-    options: &RefineOptions,
-) -> Vec<Vec<f64>> {
-    let quarter = |v: Vec2| Vec2::new(-v.y, v.x);
-    current
-        .iter()
-        .enumerate()
-        .map(|(k, e)| {
-            let range = ranges[k].clone();
-            let cols = range.len();
-            if cols == 0 {
-                // A segment held as it is: no column, nothing to build.
-                return Vec::new();
-            }
-            let column = |u: Unknown| {
-                range
-                    .clone()
-                    .find(|&c| unknowns[c] == u)
-                    .map(|c| c - range.start)
-            };
-            let points = state.points_of(k);
-            // The sensitivities, where the log-radius form applies; the model about the feet from
-            // the measurement itself then (the difference probes need it recomputed the way
-            // their own residuals are, see `State::sample_residuals_with`).
-            let sensitivity = sensitivities(&e.segment, &e.feet);
-            let model = sensitivity
-                .as_ref()
-                .and_then(|_| model_at_own_feet(&points, e))
-                .unwrap_or_else(|| model_at_feet(&e.segment, &points, e));
-            let anchors = state.anchors(k);
-            let rows = model.len() + anchors.len();
-            let mut block = vec![0.0; rows * cols];
-            let (a, b, alpha) = (state.joints[k], state.joints[k + 1], state.alphas[k]);
-            // Forward differences of the sample rows (zero where the probe cannot be built).
-            let difference = |pa: Joint, pb: Joint, palpha: f64, h: f64| -> Vec<f64> {
-                match state.sample_residuals_with(k, &pa, &pb, palpha, e) {
-                    Ok(r) => r
-                        .iter()
-                        .zip(&model)
-                        .map(|(r1, m)| (r1 - m.residual) / h)
-                        .collect(),
-                    Err(_) => vec![0.0; model.len()],
-                }
-            };
-            let alpha_column = column(Unknown::Alpha(k));
-            // The two angle columns and the α column: in one pass along the segment where its
-            // log-radius form applies, else by differences of probe constructions.
-            let (d_theta_a, d_theta_b, d_alpha) = match sensitivity {
-                Some(d) => {
-                    let rows = |of: fn(&Sensitivity) -> Vec2| -> Vec<f64> {
-                        model
-                            .iter()
-                            .zip(&d)
-                            .map(|(m, d)| -of(d).dot(m.direction))
-                            .collect()
-                    };
-                    (
-                        rows(|d| d.start_angle),
-                        rows(|d| d.end_angle),
-                        rows(|d| d.alpha),
-                    )
-                }
-                None => {
-                    let turned = |j: Joint| Joint {
-                        angle: j.angle + ANGLE_STEP,
-                        ..j
-                    };
-                    let d_alpha = if alpha_column.is_some() {
-                        // A step that the range would clip is taken backwards instead.
-                        let (lo, hi) = options
-                            .alpha_range
-                            .unwrap_or((f64::NEG_INFINITY, f64::INFINITY));
-                        let h = if alpha + ALPHA_STEP <= hi || alpha - ALPHA_STEP < lo {
-                            ALPHA_STEP
-                        } else {
-                            -ALPHA_STEP
-                        };
-                        difference(a, b, alpha + h, h)
-                    } else {
-                        Vec::new()
-                    };
-                    (
-                        difference(turned(a), b, alpha, ANGLE_STEP),
-                        difference(a, turned(b), alpha, ANGLE_STEP),
-                        d_alpha,
-                    )
-                }
-            };
-            let mut put = |col: Option<usize>, values: &[f64]| {
-                if let Some(c) = col {
-                    for (i, v) in values.iter().enumerate() {
-                        block[i * cols + c] = *v;
-                    }
-                }
-            };
-            put(column(Unknown::Angle(k)), &d_theta_a);
-            put(column(Unknown::Angle(k + 1)), &d_theta_b);
-            put(alpha_column, &d_alpha);
-            // Positions, from the similarity covariance (see the function doc).
-            let length = a.p.distance(b.p);
-            if length > 0.0 {
-                for (j, moving, pivot) in [(k, a.p, b.p), (k + 1, b.p, a.p)] {
-                    let e_hat = (moving - pivot) * (1.0 / length);
-                    let n_hat = quarter(e_hat);
-                    for (u, delta) in [
-                        (Unknown::X(j), Vec2::new(1.0, 0.0)),
-                        (Unknown::Y(j), Vec2::new(0.0, 1.0)),
-                    ] {
-                        let Some(c) = column(u) else {
-                            continue;
-                        };
-                        let sigma = e_hat.dot(delta) / length;
-                        let omega = n_hat.dot(delta) / length;
-                        for (i, m) in model.iter().enumerate() {
-                            let arm = m.point - pivot;
-                            let moved = arm * sigma + quarter(arm) * omega;
-                            block[i * cols + c] =
-                                -moved.dot(m.direction) - omega * (d_theta_a[i] + d_theta_b[i]);
-                        }
-                    }
-                }
-            }
-            // End anchors: (q − P_j)·T_j.
-            for (n, (j, q)) in anchors.iter().enumerate() {
-                let row = model.len() + n;
-                let joint = state.joints[*j];
-                let tangent = joint.tangent();
-                let normal = quarter(tangent);
-                for (u, value) in [
-                    (Unknown::X(*j), -tangent.x),
-                    (Unknown::Y(*j), -tangent.y),
-                    (Unknown::Angle(*j), (*q - joint.p).dot(normal)),
-                ] {
-                    if let Some(c) = column(u) {
-                        block[row * cols + c] = value;
-                    }
-                }
-            }
-            block
-        })
-        .collect()
-}
-
-/// The Jacobian of [`jacobian`] by forward differences in every unknown (each probe builds the
-/// segments the unknown moves): the reference the fast form is tested against.
-#[cfg(test)]
-fn jacobian_by_differences(
-    state: &State<'_>,
-    current: &[Evaluated],
-    unknowns: &[Unknown],
-    ranges: &[std::ops::Range<usize>],
-    options: &RefineOptions,
-) -> Vec<Vec<f64>> {
-    let mut blocks: Vec<Vec<f64>> = current
-        .iter()
-        .zip(ranges)
-        .map(|(e, r)| vec![0.0; e.residuals.len() * r.len()])
-        .collect();
-    let base: Vec<Vec<f64>> = current
-        .iter()
-        .enumerate()
-        .map(|(k, e)| state.model_residuals(k, &e.segment, e))
-        .collect();
-    for (c, &u) in unknowns.iter().enumerate() {
-        let h = step_of(u, options);
-        let mut probe = state.clone();
-        add(&mut probe, u, h, options);
-        for k in touched(u, state.len()) {
-            let Ok(r) = probe.residuals_near(k, &current[k]) else {
-                continue;
-            };
-            let (cols, col) = (ranges[k].len(), c - ranges[k].start);
-            for (i, (r1, r0)) in r.iter().zip(&base[k]).enumerate() {
-                blocks[k][i * cols + col] = (r1 - r0) / h;
-            }
-        }
-    }
-    blocks
-}
-
-/// One edge of a segment's drawable region, held: the linearised constraint m + ∇m·δ ≥ target
-/// on the step δ, with m the edge's margin at the iterate (see [`edge_margins`]).
-///
-/// Without it, a segment at the edge of its region (where the α search or an earlier step often
-/// leaves it: the data want an α beyond the edge) blocks the whole chain: the Gauss–Newton step
-/// points outside, and so does every damped step, which only shrinks it. Held, the step slides
-/// along the edge instead. Both edges of the region are held, in the mirror frame of the
-/// iterate: a near-straight segment's region is a wedge narrower than a step, and one edge alone
-/// let the step leave through the other or through the apex.
-#[derive(Clone, Debug)]
-struct EdgeConstraint {
-    /// Margin at the iterate.
-    margin: f64,
-    /// The margin the step must keep: min(m, max(m/2, [`EDGE_MARGIN`])).
-    target: f64,
-    /// ∂m/∂x over the segment's unknowns: (unknown index, value).
-    gradient: Vec<(usize, f64)>,
-}
-
-impl EdgeConstraint {
-    /// The two edge constraints of segment `k` at `state` (forward differences of the margins
-    /// over the unknowns in `range`); `None` where the margins are undefined.
-    fn at(
-        state: &State<'_>,
-        k: usize,
-        unknowns: &[Unknown],
-        range: &std::ops::Range<usize>,
-    ) -> Option<[Self; 2]> {
-        let (a, b, alpha) = (
-            *state.joints.get(k)?,
-            *state.joints.get(k + 1)?,
-            *state.alphas.get(k)?,
-        );
-        let sigma = mirror(a.p, a.tangent(), b.p, b.tangent())?;
-        let margins = |a: Joint, b: Joint, alpha: f64| {
-            edge_margins(a.p, a.tangent(), b.p, b.tangent(), alpha, sigma)
-        };
-        let at = margins(a, b, alpha)?;
-        let h_position = MARGIN_POSITION_STEP * a.p.distance(b.p);
-        let mut gradients = [
-            Vec::with_capacity(range.len()),
-            Vec::with_capacity(range.len()),
-        ];
-        for c in range.clone() {
-            let (mut pa, mut pb, mut palpha) = (a, b, alpha);
-            let h = match unknowns[c] {
-                Unknown::X(j) | Unknown::Y(j) => {
-                    let joint = if j == k { &mut pa } else { &mut pb };
-                    match unknowns[c] {
-                        Unknown::X(_) => joint.p.x += h_position,
-                        _ => joint.p.y += h_position,
-                    }
-                    h_position
-                }
-                Unknown::Angle(j) => {
-                    let joint = if j == k { &mut pa } else { &mut pb };
-                    joint.angle += ANGLE_STEP;
-                    ANGLE_STEP
-                }
-                Unknown::Alpha(_) => {
-                    palpha += ALPHA_STEP;
-                    ALPHA_STEP
-                }
-            };
-            let moved = margins(pa, pb, palpha)?;
-            for (g, (m1, m0)) in gradients.iter_mut().zip(moved.iter().zip(&at)) {
-                g.push((c, (m1 - m0) / h));
-            }
-        }
-        let [g0, g1] = gradients;
-        let edge = |margin: f64, gradient| EdgeConstraint {
-            margin,
-            target: margin.min((0.5 * margin).max(EDGE_MARGIN)),
-            gradient,
-        };
-        Some([edge(at[0], g0), edge(at[1], g1)])
-    }
-
-    /// The linearised margin after the step x ← x − `delta`, less the target.
-    fn slack(&self, delta: &[f64]) -> f64 {
-        let change: f64 = self.gradient.iter().map(|&(c, g)| -g * delta[c]).sum();
-        self.margin + change - self.target
-    }
-}
-
-/// The damped step `delta` (applied as x ← x − δ) of the system `a`, moved to the nearest step in
-/// `a`'s metric that keeps every constraint's slack ≥ 0: δ' = δ − Σ μᵢ·a⁻¹∇mᵢ with μ ≥ 0 from the
-/// active constraints' normal equations (an active set grown by the violated constraints, and
-/// shrunk by those whose multiplier turns negative). `None` if a solve fails.
-fn keep_inside(a: &BandCholesky, delta: Vec<f64>, edges: &[EdgeConstraint]) -> Option<Vec<f64>> {
-    if edges.iter().all(|e| e.slack(&delta) >= 0.0) {
-        return Some(delta);
-    }
-    let n = delta.len();
-    let dense = |e: &EdgeConstraint| {
-        let mut g = vec![0.0; n];
-        for &(c, v) in &e.gradient {
-            g[c] = v;
-        }
-        g
-    };
-    // a⁻¹∇mᵢ for every constraint (few: the segments held at an edge).
-    let inverse: Vec<Vec<f64>> = edges.iter().map(|e| a.solve(&dense(e))).collect();
-    let mut active: Vec<usize> = Vec::new();
-    let mut result = delta.clone();
-    for _ in 0..=2 * edges.len() {
-        let violated: Vec<usize> = (0..edges.len())
-            .filter(|&i| !active.contains(&i) && edges[i].slack(&result) < 0.0)
-            .collect();
-        if violated.is_empty() {
-            break;
-        }
-        active.extend(violated);
-        loop {
-            // Slack after δ − Σ μⱼ·vⱼ is slackᵢ(δ) + Σ μⱼ·∇mᵢ·vⱼ: solve for zero slack.
-            let m = active.len();
-            let matrix = nalgebra::DMatrix::from_fn(m, m, |i, j| {
-                edges[active[i]]
-                    .gradient
-                    .iter()
-                    .map(|&(c, g)| g * inverse[active[j]][c])
-                    .sum::<f64>()
-            });
-            let rhs = nalgebra::DVector::from_fn(m, |i, _| -edges[active[i]].slack(&delta));
-            let mu = matrix.lu().solve(&rhs)?;
-            if let Some(negative) = (0..m).find(|&i| mu[i] < 0.0) {
-                active.remove(negative);
-                if active.is_empty() {
-                    result = delta.clone();
-                    break;
-                }
-                continue;
-            }
-            result = delta.clone();
-            for (i, &e) in active.iter().enumerate() {
-                for (r, v) in result.iter_mut().zip(&inverse[e]) {
-                    *r -= mu[i] * v;
-                }
-            }
-            break;
-        }
-    }
-    Some(result)
-}
-
 /// The largest sample distance of an evaluated chain.
-fn max_distance(evaluated: &[Evaluated]) -> f64 {
+pub(super) fn max_distance(evaluated: &[Evaluated]) -> f64 {
     evaluated.iter().map(|e| e.max).fold(0.0, f64::max)
 }
 
@@ -762,85 +419,14 @@ pub(crate) struct Refined {
 mod tests {
     use super::*;
     use crate::chain::JointKind;
+    use crate::chain::g1::jacobian::jacobian_by_differences;
+    use crate::chain::g1::state::Joint;
     use crate::geom::Point;
+    use crate::geom::Vec2;
     use crate::lac::LacSegment;
 
-    /// A symmetric positive definite band matrix (diagonally dominant), pseudo-random.
-    fn random_band(n: usize, p: usize, seed: &mut u64) -> Band {
-        let mut next = || {
-            *seed = seed
-                .wrapping_mul(6364136223846793005)
-                .wrapping_add(1442695040888963407);
-            (*seed >> 11) as f64 / (1u64 << 53) as f64 * 2.0 - 1.0
-        };
-        let mut a = Band::zeros(n, p);
-        for i in 0..n {
-            a.add(i, i, 2.0 * p as f64 + 1.0 + next());
-            for j in i.saturating_sub(p)..i {
-                a.add(i, j, next());
-            }
-        }
-        a
-    }
-
-    /// (x − y)ᵀA(x − y).
-    fn metric(a: &Band, x: &[f64], y: &[f64]) -> f64 {
-        let d: Vec<f64> = x.iter().zip(y).map(|(x, y)| x - y).collect();
-        (0..d.len())
-            .map(|i| (0..d.len()).map(|j| d[i] * a.get(i, j) * d[j]).sum::<f64>())
-            .sum()
-    }
-
-    #[test]
-    fn a_held_step_keeps_every_margin_and_is_the_nearest_such_step() {
-        let mut seed = 7u64;
-        for case in 0..20 {
-            let (n, p) = (11, 3);
-            let a = random_band(n, p, &mut seed);
-            let delta: Vec<f64> = (0..n).map(|i| ((i * 7 + case) % 5) as f64 - 2.0).collect();
-            // Two constraints over overlapping blocks; the second is violated only in some cases.
-            let edges = vec![
-                EdgeConstraint {
-                    margin: 0.01,
-                    target: 0.005,
-                    gradient: vec![(2, 1.0), (3, -0.5), (4, 0.25)],
-                },
-                EdgeConstraint {
-                    margin: 0.3,
-                    target: 0.15,
-                    gradient: vec![(4, -0.2), (5, 1.0 - 0.1 * case as f64), (6, 0.4)],
-                },
-            ];
-            let factor = a.factor().expect("positive definite");
-            let out = keep_inside(&factor, delta.clone(), &edges).expect("solvable");
-            for e in &edges {
-                assert!(
-                    e.slack(&out) >= -1e-12,
-                    "case {case}: slack {}",
-                    e.slack(&out)
-                );
-            }
-            if edges.iter().all(|e| e.slack(&delta) >= 0.0) {
-                assert_eq!(out, delta);
-                continue;
-            }
-            // No feasible step nearby is closer to the free one in the system's metric.
-            let best = metric(&a, &out, &delta);
-            for t in 0..200 {
-                let y: Vec<f64> = out
-                    .iter()
-                    .enumerate()
-                    .map(|(i, v)| v + 1e-3 * (((i * 31 + t * 17) % 13) as f64 - 6.0))
-                    .collect();
-                if edges.iter().all(|e| e.slack(&y) >= 0.0) {
-                    assert!(metric(&a, &y, &delta) >= best - 1e-12, "case {case}");
-                }
-            }
-        }
-    }
-
     /// A two-segment chain with noisy samples and joints moved off the data.
-    fn points_and_state() -> (Vec<Point>, Vec<Joint>, Vec<f64>, Vec<Vec<usize>>) {
+    pub(super) fn points_and_state() -> (Vec<Point>, Vec<Joint>, Vec<f64>, Vec<Vec<usize>>) {
         let s0 = LacSegment::new(Point::new(0.0, 0.0), 0.3, 40.0, Some(0.5), 0.05, 0.02)
             .expect("segment");
         let s1 =
@@ -874,7 +460,7 @@ mod tests {
     }
 
     /// The state of [`points_and_state`]'s data, no curvature limit.
-    fn test_state(
+    pub(super) fn test_state(
         points: &[Point],
         joints: Vec<Joint>,
         alphas: Vec<f64>,
@@ -891,7 +477,7 @@ mod tests {
     }
 
     /// Refinement options for [`points_and_state`]'s chain (about 70 long, noise 0.03).
-    fn test_options(max_iterations: usize) -> RefineOptions {
+    pub(super) fn test_options(max_iterations: usize) -> RefineOptions {
         RefineOptions {
             max_iterations,
             alpha_range: Some((-3.0, 3.0)),
@@ -903,7 +489,7 @@ mod tests {
     }
 
     #[test]
-    fn the_fast_jacobian_matches_forward_differences() {
+    pub(super) fn the_fast_jacobian_matches_forward_differences() {
         let (points, joints, alphas, samples) = points_and_state();
         let state = test_state(&points, joints, alphas, samples);
         let options = test_options(1);
@@ -930,7 +516,7 @@ mod tests {
     }
 
     #[test]
-    fn a_step_may_not_take_a_joint_off_the_curve_near_where_it_was_made() {
+    pub(super) fn a_step_may_not_take_a_joint_off_the_curve_near_where_it_was_made() {
         let (points, joints, alphas, samples) = points_and_state();
         let current = test_state(&points, joints, alphas, samples);
         let options = test_options(30);
@@ -981,7 +567,7 @@ mod tests {
     }
 
     #[test]
-    fn a_refinement_of_some_segments_leaves_the_others_as_they_are() {
+    pub(super) fn a_refinement_of_some_segments_leaves_the_others_as_they_are() {
         let (points, joints, alphas, samples) = points_and_state();
         let mut state = test_state(&points, joints, alphas, samples);
         let options = test_options(30);

@@ -1,16 +1,14 @@
 //! The chain as unknowns: joints (position, tangent angle) and one α per segment. Every segment
 //! is the Yoshida–Saito segment of its two joints ([`crate::lac::fit_g1`]), so any state is G1.
 
-use rustc_hash::FxHashMap;
-use std::cell::RefCell;
-use std::rc::Rc;
-
+use crate::chain::record::JointKind;
 use crate::geom::{Point, Vec2};
 use crate::lac::deviation::{Deviation, deviation_near, points_at};
 use crate::lac::yoshida_saito::{drawable_margin, fit_g1_probe};
 use crate::lac::{LacError, LacSegment, deviation, fit_g1_near, within};
-
-use crate::chain::JointKind;
+use rustc_hash::FxHashMap;
+use std::cell::RefCell;
+use std::rc::Rc;
 
 /// A drawable margin (radians) below minus this is outside the region beyond doubt: far above
 /// the series' rounding (~1e-13 rad, see [`drawable_margin`]), far below any step a refinement
