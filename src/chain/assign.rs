@@ -77,3 +77,52 @@ pub(crate) fn tile_ranges(starts: &[Option<usize>], piece: (usize, usize)) -> Ve
     }
     ranges
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The ranges tile the piece: the first starts at the piece's first sample, each next one
+    /// right after the one before, the last ends at the piece's last sample; a segment without
+    /// samples sits on a single index where the one before it ended.
+    #[test]
+    fn ranges_tile_the_piece() {
+        let piece = (10, 40);
+        let starts = [Some(10), Some(17), None, Some(25), Some(26), None];
+        let ranges = tile_ranges(&starts, piece);
+        assert_eq!(
+            ranges,
+            vec![(10, 16), (17, 24), (24, 24), (25, 25), (26, 40), (40, 40)]
+        );
+        // Contiguous over the segments that hold samples, covering the piece exactly.
+        let held: Vec<(usize, usize)> = ranges
+            .iter()
+            .zip(&starts)
+            .filter(|(_, s)| s.is_some())
+            .map(|(r, _)| *r)
+            .collect();
+        assert_eq!(held.first().map(|r| r.0), Some(piece.0));
+        assert_eq!(held.last().map(|r| r.1), Some(piece.1));
+        assert!(held.windows(2).all(|w| w[1].0 == w[0].1 + 1));
+    }
+
+    /// A first segment that starts after the piece's first sample still begins the tiling at
+    /// the piece's start (the samples before it are its own).
+    #[test]
+    fn the_first_range_starts_at_the_piece() {
+        assert_eq!(
+            tile_ranges(&[Some(5), Some(9)], (0, 12)),
+            vec![(0, 8), (9, 12)]
+        );
+    }
+
+    /// The sample range and parameter interval of a list of points.
+    #[test]
+    fn range_and_interval_of_a_list() {
+        let indices = [3, 4, 7, 8, 11];
+        assert_eq!(sample_range(&indices, &[1, 2, 3]), (4, 8));
+        let params = [0.0, 0.5, 0.25, 1.0, 2.0];
+        assert_eq!(param_interval(&params, &[1, 2, 3]), Some((0.25, 1.0)));
+        assert_eq!(param_interval(&params, &[]), None);
+    }
+}

@@ -15,6 +15,16 @@ const CHORD_ERROR_FRACTION: f64 = 1e-3;
 /// (a corner, not a curve), and such radii (seen: 4e-12 px at the drawable region's edge) also
 /// take the segment's evaluation past the accuracy its record promises.
 const MIN_RADIUS_FRACTION: f64 = 1e-2;
+// Two radii, on purpose: [`MIN_RADIUS_FRACTION`] bounds what a segment may be at all (its
+// evaluation's accuracy), [`MIN_RADIUS_TOLERANCES`] what a fitted curve should show (the
+// samples' resolution); the G1 chain may pass through bends between the two on its way to
+// the smooth chain, which then holds them as corners or softens them.
+
+/// Smallest radius of curvature a smooth chain (and a softened end of the G1 chain) may bend
+/// at, in tolerances: a bend tighter than half a
+/// tolerance turns inside a disc the samples cannot tell from a corner; the G1 chain's needles
+/// (κ = 75 /px on a three-sample segment at 0.5 px) were exactly that.
+pub const MIN_RADIUS_TOLERANCES: f64 = 0.5;
 
 /// The scale a chain is fitted and measured at, all of it from the tolerance: how far a sample
 /// may lie from its segment, how finely distances are evaluated, and how tightly a segment may
@@ -138,6 +148,19 @@ pub(crate) fn nearest_deviation(
 mod tests {
     use super::*;
     use crate::geom::Vec2;
+
+    /// Every scale of a resolution is proportional to its tolerance, and the curvature limit
+    /// inversely: a stroke drawn twice the size is fitted at twice the tolerance to the same
+    /// chain, scaled.
+    #[test]
+    fn a_resolution_scales_with_its_tolerance() {
+        let (a, b) = (Resolution::new(0.5), Resolution::new(2.0));
+        assert!((b.chord_error / a.chord_error - 4.0).abs() <= 1e-12);
+        assert!((a.max_curvature / b.max_curvature - 4.0).abs() <= 1e-12);
+        assert!(a.chord_error < a.tolerance);
+        // The hard curvature limit lies beyond what a smooth chain may show.
+        assert!(a.max_curvature > 1.0 / (MIN_RADIUS_TOLERANCES * a.tolerance));
+    }
 
     /// The largest distance from a sample to the chain is at most the largest distance from a
     /// sample to its own segment (which the smooth fit relies on to tell a chain holds the

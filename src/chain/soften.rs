@@ -4,7 +4,7 @@
 use crate::geom::{Point, Vec2};
 use crate::lac::{SpanFit, SpanFitOptions, fit_span, within};
 
-/// Steps in which [`Fitter::soften_ends`] turns an end tangent towards the chord (then towards
+/// Steps in which the G1 chain's `soften_ends` turns an end tangent towards the chord (then towards
 /// the arc's tangent, and for a piece of one segment both ends together): the first that removes
 /// the tight curl is kept, so the tangent moves no farther than it must, to a quarter of the
 /// turn. On the nine recorded fixture files in g2, segments bending tighter than half a
@@ -15,7 +15,7 @@ pub(crate) const SOFTEN_STEPS: usize = 4;
 
 /// The (start, end) tangent angles to try, in order, for a segment from `a` to `b` (each a point
 /// and its tangent angle) whose start (`at_start`) or end curls tighter than its samples resolve
-/// (see [`Fitter::soften_ends`]): that end turned towards the chord in [`SOFTEN_STEPS`] steps,
+/// (see the G1 chain's `soften_ends`): that end turned towards the chord in [`SOFTEN_STEPS`] steps,
 /// then towards the tangent of the circular arc through both ends that keeps the other end's
 /// (its mirror image in the chord); and, where both ends are free (`both`), both towards the
 /// chord together, a line at the last step. Towards the chord first: a segment whose other

@@ -370,7 +370,7 @@ impl<'a> Fitter<'a> {
 
     /// Turns the tangent at a corner or a free end of the piece where the segment leaving it
     /// curls tighter than its samples resolve (a radius under half a tolerance,
-    /// [`crate::chain::smooth::MIN_RADIUS_TOLERANCES`]), so that the segment need not: the tangent there is the piece's own (a corner is G0), and the B-spline's end
+    /// [`crate::chain::measure::MIN_RADIUS_TOLERANCES`]), so that the segment need not: the tangent there is the piece's own (a corner is G0), and the B-spline's end
     /// tangent, which the segment started from, follows the last few samples' noise. The tangent
     /// is turned towards the segment's chord in steps ([`SOFTEN_STEPS`]), then towards the
     /// tangent of the circular arc through both ends that keeps the other end's (on a near line
@@ -387,7 +387,7 @@ impl<'a> Fitter<'a> {
         if n == 0 {
             return false;
         }
-        let cap = 1.0 / (crate::chain::smooth::MIN_RADIUS_TOLERANCES * self.resolution.tolerance);
+        let cap = 1.0 / (crate::chain::measure::MIN_RADIUS_TOLERANCES * self.resolution.tolerance);
         let mut changed = false;
         // (segment, joint at the end that may turn, whether that is its start)
         for (k, j, at_start) in [(0, 0, true), (n - 1, n, false)] {

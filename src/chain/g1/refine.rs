@@ -28,6 +28,7 @@ use super::state::{Evaluated, State, cost};
 use crate::chain::g1::edges::{EdgeConstraint, keep_inside};
 use crate::chain::g1::jacobian::jacobian;
 use crate::chain::solve::band::Band;
+use crate::chain::solve::damping::{Damping, DampingOptions, DampingRule};
 use crate::geom::Point;
 
 /// Options of [`refine`].
@@ -70,6 +71,20 @@ pub(super) const LAMBDA_MAX: f64 = 1e12;
 /// Damping growth after a rejected step: ×10 reaches a short, safe step within a few trials
 /// (each trial re-evaluates the whole chain).
 pub(super) const LAMBDA_GROWTH: f64 = 10.0;
+/// The refinement's damping (Marquardt's rule): from [`LAMBDA_START`], ×[`LAMBDA_GROWTH`] after a
+/// refused trial, ÷3 after an accepted one (down to 1e-12, far below any step that changes the
+/// chain), tries up to [`LAMBDA_MAX`]. Each trial re-evaluates the whole chain, so a refusal
+/// jumps far; the smooth fit's projections make its trials dearer still, and it takes Nielsen's
+/// rule instead (`smooth::lm::DAMPING`).
+pub(super) const DAMPING: DampingOptions = DampingOptions {
+    initial: LAMBDA_START,
+    max: LAMBDA_MAX,
+    rule: DampingRule::Marquardt {
+        growth: LAMBDA_GROWTH,
+        shrink: 3.0,
+        floor: 1e-12,
+    },
+};
 /// Rejected trials per iteration before the refinement stops: after eight the step is 1e-8 of
 /// the Gauss–Newton one, and no useful descent is left.
 pub(super) const MAX_TRIES: usize = 8;
@@ -278,7 +293,7 @@ pub(crate) fn refine(
         .map(|e| e.residuals.len())
         .sum::<usize>()
         .max(1) as f64;
-    let mut lambda = LAMBDA_START;
+    let mut damping = Damping::new(DAMPING);
     // The segment that could not be built in the last rejected trial: tried first next time.
     let mut unbuildable = None;
     // Segments held inside their drawable region (see `EdgeConstraint`).
@@ -324,18 +339,22 @@ pub(crate) fn refine(
             .collect();
         let mut improved = false;
         let mut tries = 0;
-        while lambda < LAMBDA_MAX && tries < MAX_TRIES {
+        while damping.may_try() && tries < MAX_TRIES {
             tries += 1;
             let mut a = jtj.clone();
             for i in 0..a.n() {
                 // Marquardt's scaling, with a floor for unknowns the data barely see.
-                a.add(i, i, lambda * jtj.get(i, i).max(f64::MIN_POSITIVE.sqrt()));
+                a.add(
+                    i,
+                    i,
+                    damping.lambda() * jtj.get(i, i).max(f64::MIN_POSITIVE.sqrt()),
+                );
             }
             let Some(delta) = a
                 .factor()
                 .and_then(|f| keep_inside(&f, f.solve(&jtr), &edges))
             else {
-                lambda *= 10.0;
+                damping.refuse();
                 continue;
             };
             // An α on the end of its range that the step pushes beyond is held there and the
@@ -369,7 +388,8 @@ pub(crate) fn refine(
                     *state = trial;
                     current = e;
                     current_cost = new_cost;
-                    lambda = (lambda / 3.0).max(1e-12);
+                    // Marquardt's rule does not read the gain ratio.
+                    damping.accept(1.0);
                     improved = decrease > CONVERGED && rms_gain > options.converged_rms;
                     break;
                 }
@@ -385,10 +405,10 @@ pub(crate) fn refine(
                         held.push(k);
                         edges.extend(pair);
                     } else {
-                        lambda *= LAMBDA_GROWTH;
+                        damping.refuse();
                     }
                 }
-                Ok(_) => lambda *= LAMBDA_GROWTH,
+                Ok(_) => damping.refuse(),
             }
         }
         if !improved {

@@ -125,9 +125,12 @@ pub(super) fn soften_isolated(
     let d = &fit.deviation;
     s.alpha_uncertainty =
         smooth_alpha_uncertainty(smooth, &fit.segment, list, &d.signed_distances(), &d.feet);
-    s.alpha_bound = crate::chain::AlphaBound::of(fit.segment.alpha(), smooth.alpha);
-    s.alpha_source =
-        crate::chain::AlphaSource::of_g1(fit.segment.alpha(), &fit.search, smooth.alpha);
+    s.alpha_bound = crate::chain::alpha_evidence::AlphaBound::of(fit.segment.alpha(), smooth.alpha);
+    s.alpha_source = crate::chain::alpha_evidence::AlphaSource::of_g1(
+        fit.segment.alpha(),
+        &fit.search,
+        smooth.alpha,
+    );
     s.segment = fit.segment;
     s.max_deviation = d.max;
     s.rms_deviation = d.rms;

@@ -49,11 +49,14 @@ pub(super) fn finish(
                 max_deviation: max,
                 rms_deviation: rms,
                 search: smooth.chain.segments[layout.origin[k]].search.clone(),
-                alpha_source: crate::chain::AlphaSource::of_smooth(
+                alpha_source: crate::chain::alpha_evidence::AlphaSource::of_smooth(
                     e.segments[k].alpha(),
                     smooth.alpha,
                 ),
-                alpha_bound: crate::chain::AlphaBound::of(e.segments[k].alpha(), smooth.alpha),
+                alpha_bound: crate::chain::alpha_evidence::AlphaBound::of(
+                    e.segments[k].alpha(),
+                    smooth.alpha,
+                ),
                 alpha_uncertainty: smooth_alpha_uncertainty(
                     smooth,
                     &e.segments[k],
@@ -119,7 +122,7 @@ pub(super) fn smooth_alpha_uncertainty(
         );
         Some(d.signed_distances())
     };
-    let step = crate::chain::ALPHA_DIFFERENCE_STEP;
+    let step = crate::chain::alpha_evidence::ALPHA_DIFFERENCE_STEP;
     let (minus, plus) = (signed(alpha - step), signed(alpha + step));
-    crate::chain::alpha_uncertainty(residuals, minus.as_deref(), plus.as_deref())
+    crate::chain::alpha_evidence::alpha_uncertainty(residuals, minus.as_deref(), plus.as_deref())
 }

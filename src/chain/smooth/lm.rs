@@ -7,6 +7,7 @@ use super::normal::{Normal, NormalPattern, band_order, normal_equations};
 use super::project::{LeastNorm, constraint_order, project};
 use super::solver::{Evaluation, Solver, largest_distance, reassigned};
 use crate::chain::solve::band_lu::BandMatrix;
+use crate::chain::solve::damping::{Damping, DampingOptions, DampingRule};
 use crate::lac::LacSegment;
 use nalgebra::DVector;
 
@@ -113,6 +114,16 @@ pub(super) const DAMPING_GROWTH: f64 = 2.0;
 
 /// Beyond this damping the step is too short to matter: the solve has converged or is stuck.
 pub(super) const MAX_DAMPING: f64 = 1e8;
+
+/// The smooth fit's damping (Nielsen's rule, see [`DAMPING_GROWTH`]): from
+/// [`INITIAL_DAMPING`], a try at [`MAX_DAMPING`] itself still made.
+pub(super) const DAMPING: DampingOptions = DampingOptions {
+    initial: INITIAL_DAMPING,
+    max: MAX_DAMPING.next_up(),
+    rule: DampingRule::Nielsen {
+        growth: DAMPING_GROWTH,
+    },
+};
 
 /// A diagonal entry of the normal matrix below this fraction of the largest is raised to it
 /// before damping: an unknown the samples barely see (α of a near arc, the curvature at a
@@ -239,8 +250,7 @@ pub(super) fn levenberg_marquardt(
     // The unknowns the constraints leave free: the fit's own degrees of freedom.
     let free = m.saturating_sub(nc);
     let position = band_order(layout, &vars, nc, &c3_joints);
-    let mut lambda = INITIAL_DAMPING;
-    let mut growth = DAMPING_GROWTH;
+    let mut damping = Damping::new(DAMPING);
     // A polish's last chain within the tolerance (with its evaluation and assignment) before a
     // step that took a sample beyond it: where the polish ends beyond the tolerance, it ends
     // there instead (see below).
@@ -314,17 +324,20 @@ pub(super) fn levenberg_marquardt(
             }
             // The trials' chord projections share one factor of the constraint Jacobian.
             let mut chord: Option<Option<LeastNorm>> = None;
-            while lambda <= MAX_DAMPING {
+            while damping.may_try() {
                 let mut kkt = BandMatrix::zeros(m + nc, lower, upper);
                 for &(i, j, v) in &entries {
                     kkt.add(i, j, v);
                 }
                 for i in 0..m {
-                    kkt.add(position[i], position[i], lambda * a.diagonal(i).max(floor));
+                    kkt.add(
+                        position[i],
+                        position[i],
+                        damping.lambda() * a.diagonal(i).max(floor),
+                    );
                 }
                 let Some(solution) = kkt.solve(&rhs) else {
-                    lambda *= growth;
-                    growth *= 2.0;
+                    damping.refuse();
                     continue;
                 };
                 let delta = DVector::from_iterator(m, (0..m).map(|i| solution[position[i]]));
@@ -376,25 +389,21 @@ pub(super) fn levenberg_marquardt(
                     project(Form::Shooting, solver, layout, &mut trial, &c3_joints, None)
                 });
                 let Some(segments) = projected else {
-                    lambda *= growth;
-                    growth *= 2.0;
+                    damping.refuse();
                     continue;
                 };
                 let Some(t) = solver.evaluate_below(segments, assign, Some((e, assign)), e.cost)
                 else {
-                    lambda *= growth;
-                    growth *= 2.0;
+                    damping.refuse();
                     continue;
                 };
                 if t.cost < e.cost {
                     let rho = ((e.cost - t.cost) / predicted).min(1.0);
-                    lambda *= (1.0 - (2.0 * rho - 1.0).powi(3)).max(1.0 / 3.0);
-                    growth = DAMPING_GROWTH;
+                    damping.accept(rho);
                     accepted = Some((trial, t));
                     break;
                 }
-                lambda *= growth;
-                growth *= 2.0;
+                damping.refuse();
             }
             break;
         }

@@ -95,7 +95,7 @@
 //! curl beyond the bound they are turned as the G1 chain's piece ends are (`soften_isolated`). One
 //! that still curls beyond the bound at a free end after those turns hooks there, and says so: it
 //! becomes the line between its ends where that holds its samples, else a line to the sample next
-//! to the curl and a segment on from it, meeting at a new corner (`src/chain/unhook.rs`). On the
+//! to the curl and a segment on from it, meeting at a new corner (`src/chain/smooth/unhook.rs`). On the
 //! nine recorded fixture files 28 segments bent beyond the bound (4 tighter than half a tolerance
 //! in radius) before the hooks were cut, none now, for 26 segments more (820 → 846, most of them
 //! lines of a pixel or three at a painting stroke's reversal). A least-squares chain that misses
@@ -109,11 +109,15 @@
 //! its G1 segments and the chain says [`Continuity::G1`].
 //!
 //! ## Files
-//! This file holds the parts' orchestration (corners, cut rounds, minimax, the record);
-//! `layout.rs` the unknowns and the two forms, `solver.rs` the residuals, joint equations and
-//! the samples' assignment, `start.rs` the starting chain and the cuts, `jacobian.rs` the
-//! differenced Jacobians, `lm.rs` the constrained Levenberg–Marquardt solve with its projections
-//! and the minimax rounds. A segment that still hooks at a corner is cut in `../unhook.rs`.
+//! This file holds the bounds and the parts' orchestration (corners, cut rounds); `part.rs` one
+//! part's fit from its starts, `removal.rs` the joint removals, `settle.rs` whether a solved chain
+//! holds and its polish, `ends.rs` tails and softened isolated ends, `finish.rs` the record;
+//! `layout.rs` the unknowns and the two forms, `start.rs` the starting chain and the cuts,
+//! `solver.rs` the residuals, joint equations and the samples' assignment, `jacobian.rs` the
+//! differenced Jacobians, `normal.rs` the normal equations over their pattern, `project.rs` the
+//! projection onto the constraints, `lm.rs` the constrained Levenberg–Marquardt solve and the
+//! minimax rounds (damping from `chain::solve::damping`). A segment that still hooks at a corner
+//! is cut in `unhook.rs`.
 
 use crate::chain::assign::{own_points, retile};
 use crate::chain::measure::measured_deviation;
@@ -143,10 +147,7 @@ mod unhook;
 /// range (the clothoid −1, and the −3..0 the α search offers) open.
 pub const ZERO_END_ALPHA: f64 = -0.05;
 
-/// Smallest radius of curvature of a smooth chain, in tolerances: a bend tighter than half a
-/// tolerance turns inside a disc the samples cannot tell from a corner; the G1 chain's needles
-/// (κ = 75 /px on a three-sample segment at 0.5 px) were exactly that.
-pub const MIN_RADIUS_TOLERANCES: f64 = 0.5;
+pub use crate::chain::measure::MIN_RADIUS_TOLERANCES;
 
 /// Largest turning between two consecutive samples (radians) a smooth chain may claim: the
 /// curvature at a joint is at most this over the piece's median sample spacing. Beyond a quarter
@@ -393,7 +394,7 @@ pub(crate) fn smooth_chain(smooth: &SmoothInput) -> Option<Chain> {
     // but kept the G1 chain's, which curl where the G1 joint bent beyond the bound: its ends are
     // turned as the G1 chain's piece ends are (see [`soften_tries`]). One that still curls
     // hooks there: it becomes a line, or a line and a segment meeting at a corner (see
-    // `src/chain/unhook.rs`). Both hold the segment's own samples (its tiled range); the ranges
+    // `src/chain/smooth/unhook.rs`). Both hold the segment's own samples (its tiled range); the ranges
     // are tiled again after.
     let mut straightened = Vec::with_capacity(out.len());
     let lists = own_points(smooth.input, &out);

@@ -23,10 +23,10 @@
 
 use super::SmoothInput;
 use super::finish::smooth_alpha_uncertainty;
+use crate::chain::alpha_evidence::{AlphaBound, AlphaSource};
 use crate::chain::assign::{param_interval, sample_range};
 use crate::chain::record::{ChainSegment, JointKind};
 use crate::chain::soften::soften_fits;
-use crate::chain::{AlphaBound, AlphaSource};
 use crate::geom::{Point, Vec2};
 use crate::lac::LacSegment;
 use crate::lac::alpha_search::{AlphaSearch, fit_span};

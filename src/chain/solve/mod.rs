@@ -3,3 +3,4 @@
 
 pub(crate) mod band;
 pub(crate) mod band_lu;
+pub(crate) mod damping;
