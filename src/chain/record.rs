@@ -10,7 +10,7 @@ use crate::geom::Point;
 use crate::lac::{AlphaChoice, AlphaSearch, LacError, LacSegment};
 use crate::split::{Spans, SplitKind};
 
-/// Options of [`fit_chain`].
+/// Options of [`fit_chain`](super::fit_chain).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct ChainOptions {
     /// α allowed per segment. Default: the range [−3, 3] ([`AlphaChoice::default`]).
@@ -158,7 +158,7 @@ pub enum ChainError {
     },
 }
 
-/// What [`fit_chain`] works from.
+/// What [`fit_chain`](super::fit_chain) works from.
 #[derive(Clone, Copy, Debug)]
 pub struct ChainInput<'a> {
     /// Distinct sample positions, in stroke order.

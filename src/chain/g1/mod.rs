@@ -145,14 +145,6 @@ fn changed_and_neighbours(state: &State<'_>, settled: &FxHashSet<SegmentKey>) ->
         .collect()
 }
 
-/// The (start, end) tangent angles to try, in order, for a segment from `a` to `b` (each a point
-/// and its tangent angle) whose start (`at_start`) or end curls tighter than its samples resolve
-/// (see [`Fitter::soften_ends`]): that end turned towards the chord in [`SOFTEN_STEPS`] steps,
-/// then towards the tangent of the circular arc through both ends that keeps the other end's
-/// (its mirror image in the chord); and, where both ends are free (`both`), both towards the
-/// chord together, a line at the last step. Towards the chord first: a segment whose other
-/// tangent lies off the chord cannot leave along it (a log-aesthetic segment has no inflection),
-
 /// What [`Fitter::search`] found.
 struct Searched {
     /// The α (the range's middle for an arc or a line).

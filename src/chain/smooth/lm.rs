@@ -536,6 +536,8 @@ mod tests {
     use super::*;
     use crate::geom::{Point, Vec2};
 
+    /// A sample may sit on a segment's extension up to [`EXTENSION_REACH`] of that segment's own
+    /// length past either end; one farther ends the polish, whichever segment it is.
     #[test]
     fn a_sample_beyond_a_segments_length_past_its_end_is_out_of_reach() {
         let short =

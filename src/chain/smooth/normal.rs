@@ -253,9 +253,6 @@ mod tests {
         ((k * 31 + row * 7 + j * 13) % 17) as f64 / 8.0 - 1.0
     }
 
-    /// A sample may sit on a segment's extension up to [`EXTENSION_REACH`] of that segment's own
-    /// length past either end; one farther ends the polish, whichever segment it is.
-
     /// JᵀJ accumulated over the pattern equals the dense product of the same rows, and a hold
     /// clears exactly its row and column.
     #[test]
