@@ -6,10 +6,12 @@ use std::time::Instant;
 
 use clap::{Args, Parser, Subcommand};
 
-use crate::export::{CurveFile, DxfOptions, ExportOptions, SvgOptions, dxf_drawing, svg_document};
+use crate::export::{
+    ExportOptions, Format, FormatError, FormatOptions, JsonLayout, PngOptions, SvgLayers,
+};
 use crate::io::{read_strokes, write_atomic};
 use crate::lac::AlphaChoice;
-use crate::pipeline::{PipelineOptions, fit_files};
+use crate::pipeline::{FitOutput, PipelineOptions, fit_files};
 use crate::render::{Overlays, RenderOptions};
 use crate::stroke::StrokeFile;
 
@@ -204,7 +206,7 @@ pub struct FitArgs {
     pub svg: Option<PathBuf>,
     /// Extra SVG layers, comma-separated: samples, bspline, alpha (segments coloured by α),
     /// splits.
-    #[arg(long, value_delimiter = ',', value_parser = ["samples", "bspline", "alpha", "splits"])]
+    #[arg(long, value_delimiter = ',', value_parser = SvgLayers::NAMES)]
     pub svg_layers: Vec<String>,
     /// Also write a DXF: one degree-3 SPLINE per fitted piece, within --export-accuracy. With
     /// several inputs, a directory that receives `<input stem>.dxf` for each.
@@ -686,6 +688,19 @@ fn fit(args: &FitArgs, out: &mut dyn std::io::Write) -> Result<(), CliError> {
             source,
         }
     })?;
+    let formats = FormatOptions {
+        json: ExportOptions { lcg: args.lcg },
+        json_layout: JsonLayout::Pretty,
+        accuracy: args.export_accuracy,
+        svg_layers: SvgLayers::named(&args.svg_layers),
+        png: PngOptions::default()
+            .with_size(args.size)
+            .with_render(RenderOptions::with_overlays(
+                args.png_layers
+                    .as_deref()
+                    .map_or_else(Overlays::default, Overlays::named),
+            )),
+    };
     let (mut failed, mut strokes) = (0, 0);
     for ((input, file), output) in read.iter().zip(outputs) {
         let (input, file) = (*input, file);
@@ -695,7 +710,6 @@ fn fit(args: &FitArgs, out: &mut dyn std::io::Write) -> Result<(), CliError> {
         failed += output.failures.len();
         strokes += file.strokes.len();
         warn_below_noise_floor(input, &output);
-        let doc = CurveFile::from_output_with(&output, &ExportOptions { lcg: args.lcg });
         for c in &output.curves {
             let lac = c
                 .chain
@@ -725,59 +739,42 @@ fn fit(args: &FitArgs, out: &mut dyn std::io::Write) -> Result<(), CliError> {
                 }
             }
         }
-        if let Some(path) = &args.svg {
-            let options = SvgOptions {
-                accuracy: args.export_accuracy,
-                ..SvgOptions::for_units(file.units)
+        for (format, path) in [
+            (Format::Svg, &args.svg),
+            (Format::Dxf, &args.dxf),
+            (Format::Png, &args.png),
+        ] {
+            if let Some(path) = path {
+                let path = target(input, path, format.extension());
+                let bytes = export(format, file, &output, &formats, &path)?;
+                write_atomic(&path, &bytes)?;
             }
-            .with_layer_names(&args.svg_layers);
-            let svg = svg_document(&output, Some(file), &options);
-            let path = target(input, path, "svg");
-            warn_beyond_accuracy(&path, svg.max_error(), svg.accuracy);
-            write_atomic(&path, svg.svg.as_bytes())?;
-        }
-        if let Some(path) = &args.dxf {
-            let path = target(input, path, "dxf");
-            let options = DxfOptions {
-                accuracy: args.export_accuracy,
-            };
-            let dxf = dxf_drawing(&output, &options);
-            warn_beyond_accuracy(&path, dxf.max_error(), dxf.accuracy);
-            let bytes = dxf.to_bytes().map_err(|e| CliError::Export {
-                path: path.clone(),
-                message: e.to_string(),
-            })?;
-            write_atomic(&path, &bytes)?;
-        }
-        if let Some(path) = &args.png {
-            let target = target(input, path, "png");
-            let options = RenderOptions::with_overlays(
-                args.png_layers
-                    .as_deref()
-                    .map_or_else(Overlays::default, Overlays::named),
-            );
-            let png = crate::render::quick_look_png(file, &output, args.size, &options).map_err(
-                |source| CliError::Render {
-                    path: target.clone(),
-                    source,
-                },
-            )?;
-            write_atomic(&target, &png)?;
         }
         match &args.json {
             None => {
-                let text = if several {
-                    serde_json::to_string(&doc).unwrap_or_default()
+                // Several documents on stdout: one a line.
+                let layout = if several {
+                    JsonLayout::Compact
                 } else {
-                    doc.to_json()
+                    JsonLayout::Pretty
                 };
-                writeln!(out, "{text}").map_err(|source| CliError::Io {
-                    path: "<stdout>".into(),
-                    source,
-                })?;
+                let options = FormatOptions {
+                    json_layout: layout,
+                    ..formats
+                };
+                let stdout = Path::new("<stdout>");
+                let bytes = export(Format::Json, file, &output, &options, stdout)?;
+                out.write_all(&bytes)
+                    .and_then(|()| out.write_all(b"\n"))
+                    .map_err(|source| CliError::Io {
+                        path: stdout.into(),
+                        source,
+                    })?;
             }
             Some(path) => {
-                write_atomic(&target(input, path, "curve.json"), doc.to_json().as_bytes())?;
+                let path = target(input, path, Format::Json.extension());
+                let bytes = export(Format::Json, file, &output, &formats, &path)?;
+                write_atomic(&path, &bytes)?;
             }
         }
     }
@@ -809,16 +806,36 @@ fn progress_reporter() -> impl Fn(usize, usize) + Sync {
     }
 }
 
-/// Says on stderr when an export's measured error exceeds the accuracy asked for (a segment
+/// The bytes of `output` in `format` for the file `path` (named in errors and warnings). Says on
+/// stderr when an SVG's or DXF's measured error exceeds the accuracy asked for (a segment
 /// beyond the exporter's work bounds; see [`crate::export::segment_beziers`]): the file is still
 /// written, and states each segment's error.
-fn warn_beyond_accuracy(path: &Path, error: f64, accuracy: f64) {
-    if error > accuracy {
+fn export(
+    format: Format,
+    file: &StrokeFile,
+    output: &FitOutput,
+    options: &FormatOptions,
+    path: &Path,
+) -> Result<Vec<u8>, CliError> {
+    let exported = format.export(file, output, options).map_err(|e| match e {
+        FormatError::Render(source) => CliError::Render {
+            path: path.to_owned(),
+            source,
+        },
+        other => CliError::Export {
+            path: path.to_owned(),
+            message: other.to_string(),
+        },
+    })?;
+    if let Some(beyond) = exported.beyond_accuracy() {
         eprintln!(
-            "warning: {}: largest export error {error:.4e} exceeds the accuracy {accuracy:.4e}",
-            path.display()
+            "warning: {}: largest export error {:.4e} exceeds the accuracy {:.4e}",
+            path.display(),
+            beyond.max_error,
+            beyond.accuracy
         );
     }
+    Ok(exported.bytes)
 }
 
 /// A benchmark row's label and how it derives the tolerance from a file's unit default.

@@ -628,17 +628,10 @@ fn the_apps_svg_export_writes_one_path_per_stroke_with_the_samples_layer() {
         let file = StrokeFile::from_json(&text).expect("parses");
         let output = fit_file(&file, &PipelineOptions::default()).expect("fits");
         let svg = dir.join(format!("{name}.svg"));
-        use kansei::app::files::{ExportKind, Overwrite, export};
+        use kansei::app::files::{Overwrite, export};
+        use kansei::export::Format;
         let png = kansei::render::RenderOptions::default();
-        export(
-            &svg,
-            ExportKind::Svg,
-            &file,
-            &output,
-            &png,
-            Overwrite::Never,
-        )
-        .expect("writes");
+        export(&svg, Format::Svg, &file, &output, &png, Overwrite::Never).expect("writes");
         let text = std::fs::read_to_string(&svg).expect("reads");
         let doc = roxmltree::Document::parse(&text).expect("well-formed");
         let layer = |id: &str| {

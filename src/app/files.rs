@@ -13,10 +13,10 @@
 
 use std::path::{Path, PathBuf};
 
-use crate::export::{CurveFile, DxfOptions, SvgOptions, dxf_drawing, svg_document};
+use crate::export::{EmptyDrawing, Format, FormatError, FormatOptions, PngOptions, SvgLayers};
 use crate::io::{FileError, read_strokes, write_atomic, write_new};
 use crate::pipeline::FitOutput;
-use crate::render::{RenderError, RenderOptions, Scene, View, render_png, scene_bounds};
+use crate::render::{RenderError, RenderOptions};
 use crate::stroke::StrokeFile;
 
 /// File name of the recovery file inside its directory.
@@ -26,7 +26,7 @@ pub const RECOVERY_FILE_NAME: &str = "recovery.kansei-stroke.json";
 pub const PNG_MARGIN_PX: f64 = 24.0;
 
 /// Size of an exported PNG, pixels (the render module's defaults suit it).
-pub const PNG_SIZE: (u32, u32) = (1600, 1000);
+pub const PNG_SIZE: (u32, u32) = crate::export::DEFAULT_PNG_SIZE;
 
 /// Largest file [`is_stroke_file`] reads to find out (a stroke file is rarely more than a few
 /// MB; a larger file is taken to be one, to be safe).
@@ -39,49 +39,6 @@ pub enum Overwrite {
     Never,
     /// An existing file is replaced (the user said so).
     Allowed,
-}
-
-/// The kinds of export.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum ExportKind {
-    /// `kansei-curve` JSON.
-    Json,
-    /// The SVG (exact lines and arcs, spirals as cubics), with the samples as a layer.
-    Svg,
-    /// DXF splines.
-    Dxf,
-    /// A PNG of the whole drawing with the canvas's overlays.
-    Png,
-}
-
-impl ExportKind {
-    /// Every kind, in the file panel's order.
-    pub const ALL: [ExportKind; 4] = [
-        ExportKind::Json,
-        ExportKind::Svg,
-        ExportKind::Dxf,
-        ExportKind::Png,
-    ];
-
-    /// The extension an export of this kind gets, without the leading dot.
-    pub fn extension(self) -> &'static str {
-        match self {
-            ExportKind::Json => "curve.json",
-            ExportKind::Svg => "svg",
-            ExportKind::Dxf => "dxf",
-            ExportKind::Png => "png",
-        }
-    }
-
-    /// The file panel's button.
-    pub fn label(self) -> &'static str {
-        match self {
-            ExportKind::Json => "Export JSON",
-            ExportKind::Svg => "Export SVG",
-            ExportKind::Dxf => "Export DXF",
-            ExportKind::Png => "Export PNG",
-        }
-    }
 }
 
 /// Why an export failed.
@@ -124,11 +81,11 @@ impl ExportError {
     }
 }
 
-/// Where an export of `kind` goes for the path `base` (the file panel's path, usually the
+/// Where an export in `format` goes for the path `base` (the file panel's path, usually the
 /// drawing's file): the same directory and name with the export's extension instead of the
 /// file's own (`waves.json` → `waves.svg`, `waves.curve.json`, …; `sketch.kansei-stroke.json`
 /// → `sketch.svg`). `None` when `base` names no file (empty, or a folder).
-pub fn export_path(base: &Path, kind: ExportKind) -> Option<PathBuf> {
+pub fn export_path(base: &Path, format: Format) -> Option<PathBuf> {
     if base.as_os_str().is_empty() || base.is_dir() {
         return None;
     }
@@ -144,7 +101,7 @@ pub fn export_path(base: &Path, kind: ExportKind) -> Option<PathBuf> {
                 .map(|s| s.to_string_lossy().into_owned())
         })
         .unwrap_or(name);
-    Some(base.with_file_name(format!("{stem}.{}", kind.extension())))
+    Some(base.with_file_name(format!("{stem}.{}", format.extension())))
 }
 
 /// Whether `path` is a `kansei-stroke` file (a drawing), which no export replaces.
@@ -234,52 +191,57 @@ pub fn discard_recovery(path: &Path) -> Result<(), FileError> {
     write_recovery(path, &StrokeFile::new(crate::stroke::Units::Mm, Vec::new()))
 }
 
-/// The bytes of an export of `kind` (`path` only names the file in errors): the curve JSON;
-/// the SVG of the fits (exact lines and arcs, spirals as cubics within the default export
-/// accuracy) with the samples as a layer; DXF splines (within the default export accuracy); or
-/// a PNG of the whole drawing drawn with `png` (the canvas's overlays).
+/// The options of the app's exports ([`Format::export`]): the curve JSON as `kansei fit`
+/// writes it; the SVG of the fits (exact lines and arcs, spirals as cubics within the default
+/// export accuracy) with the samples as a layer; DXF splines (within the default export
+/// accuracy); a PNG of [`PNG_SIZE`] of the whole drawing, [`PNG_MARGIN_PX`] around it, drawn
+/// with `png` (the canvas's overlays), an empty drawing refused.
+pub fn export_options(png: &RenderOptions) -> FormatOptions {
+    FormatOptions {
+        svg_layers: SvgLayers::SAMPLES,
+        png: PngOptions::default()
+            .with_size(PNG_SIZE)
+            .with_margin(PNG_MARGIN_PX)
+            .with_render(*png)
+            .with_empty(EmptyDrawing::Refuse),
+        ..FormatOptions::default()
+    }
+}
+
+/// The bytes of an export in `format` with the app's options ([`export_options`]; `path` only
+/// names the file in errors).
 pub fn export_bytes(
     path: &Path,
-    kind: ExportKind,
+    format: Format,
     file: &StrokeFile,
     output: &FitOutput,
     png: &RenderOptions,
 ) -> Result<Vec<u8>, ExportError> {
-    match kind {
-        ExportKind::Json => Ok(CurveFile::from_output(output).to_json().into_bytes()),
-        ExportKind::Svg => {
-            let options = SvgOptions::for_units(file.units).with_layers(true, false, false, false);
-            Ok(svg_document(output, Some(file), &options).svg.into_bytes())
-        }
-        ExportKind::Dxf => dxf_drawing(output, &DxfOptions::default())
-            .to_bytes()
-            .map_err(|e| ExportError::Export {
-                path: path.to_owned(),
-                message: e.to_string(),
-            }),
-        ExportKind::Png => {
-            let scene = Scene::new(&file.strokes, &output.curves, file.units);
-            let bounds = scene_bounds(&scene).ok_or(ExportError::Empty)?;
-            let view = View::fit(bounds, PNG_SIZE.0, PNG_SIZE.1, PNG_MARGIN_PX);
-            render_png(&scene, &view, png).map_err(|source| ExportError::Render {
-                path: path.to_owned(),
-                source,
-            })
-        }
+    match format.export(file, output, &export_options(png)) {
+        Ok(exported) => Ok(exported.bytes),
+        Err(FormatError::EmptyDrawing) => Err(ExportError::Empty),
+        Err(FormatError::Render(source)) => Err(ExportError::Render {
+            path: path.to_owned(),
+            source,
+        }),
+        Err(e @ (FormatError::Dxf(_) | FormatError::Json(_))) => Err(ExportError::Export {
+            path: path.to_owned(),
+            message: e.to_string(),
+        }),
     }
 }
 
-/// Writes an export of `kind` ([`export_bytes`]) to `path`. An existing file is replaced only
+/// Writes an export in `format` ([`export_bytes`]) to `path`. An existing file is replaced only
 /// when `overwrite` allows, and a `kansei-stroke` file never is ([`ExportError::StrokeFile`]).
 pub fn export(
     path: &Path,
-    kind: ExportKind,
+    format: Format,
     file: &StrokeFile,
     output: &FitOutput,
     png: &RenderOptions,
     overwrite: Overwrite,
 ) -> Result<(), ExportError> {
-    let bytes = export_bytes(path, kind, file, output, png)?;
+    let bytes = export_bytes(path, format, file, output, png)?;
     if is_stroke_file(path) {
         return Err(ExportError::StrokeFile {
             path: path.to_owned(),

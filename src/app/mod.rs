@@ -76,7 +76,7 @@ pub enum Command {
     Save(PathBuf),
     /// Export the fits to this path ([`files::export_path`] gives the file panel's): a new
     /// file at once, an existing one only once the user confirms, a stroke file never.
-    Export(files::ExportKind, PathBuf),
+    Export(crate::export::Format, PathBuf),
     /// Replace the file the pending save or export asks about.
     ConfirmReplace,
     /// Leave the file the pending save or export asks about as it is.
@@ -114,7 +114,7 @@ pub struct PendingReplace {
     /// The existing file.
     pub path: PathBuf,
     /// What would be written: `None` for the strokes (Save), else the export.
-    pub export: Option<files::ExportKind>,
+    pub export: Option<crate::export::Format>,
 }
 
 /// The state the panels edit that is not the document: what is shown and where files go.
@@ -354,15 +354,15 @@ impl KanseiApp {
                 };
                 self.save(path, overwrite);
             }
-            Command::Export(kind, path) => self.export(kind, path, files::Overwrite::Never),
+            Command::Export(format, path) => self.export(format, path, files::Overwrite::Never),
             Command::ConfirmReplace => match self.pending_replace.take() {
                 Some(PendingReplace { path, export: None }) => {
                     self.save(path, files::Overwrite::Allowed);
                 }
                 Some(PendingReplace {
                     path,
-                    export: Some(kind),
-                }) => self.export(kind, path, files::Overwrite::Allowed),
+                    export: Some(format),
+                }) => self.export(format, path, files::Overwrite::Allowed),
                 None => {}
             },
             Command::CancelReplace => {
@@ -458,7 +458,12 @@ impl KanseiApp {
 
     /// Exports; an existing file that may not be replaced becomes a question, and the drawing's
     /// own stroke file is never the target.
-    fn export(&mut self, kind: files::ExportKind, path: PathBuf, overwrite: files::Overwrite) {
+    fn export(
+        &mut self,
+        format: crate::export::Format,
+        path: PathBuf,
+        overwrite: files::Overwrite,
+    ) {
         if self
             .file_path
             .as_deref()
@@ -472,7 +477,7 @@ impl KanseiApp {
         }
         let result = files::export(
             &path,
-            kind,
+            format,
             &self.doc.to_file(),
             &self.output(),
             &RenderOptions::with_overlays(self.view.overlays),
@@ -482,7 +487,7 @@ impl KanseiApp {
             Ok(()) => self.set_info(format!("wrote {}", path.display())),
             Err(e) if e.is_exists() => self.ask_replace(PendingReplace {
                 path,
-                export: Some(kind),
+                export: Some(format),
             }),
             Err(e) => self.set_error(e.to_string()),
         }

@@ -8,12 +8,12 @@ use egui::{DragValue, RichText, ScrollArea, Ui};
 
 use super::Command;
 use super::document::{Document, FitSettings, ScreenTolerance};
-use super::files::{ExportKind, export_path};
+use super::files::export_path;
 use super::replay::{Replay, SPEED_RANGE};
 use super::scene::{SceneData, Selection};
 use super::worker::{FitState, Fits};
 use crate::chain::Continuity;
-use crate::export::relative_jump;
+use crate::export::{Format, relative_jump};
 use crate::lac::AlphaChoice;
 use crate::render::Overlays;
 use crate::stroke::{StrokeFile, Units};
@@ -311,9 +311,10 @@ pub fn files(ui: &mut Ui, path: &mut String, commands: &mut Vec<Command>) {
                 commands.push(make(target.clone()));
             }
         }
-        for kind in ExportKind::ALL {
-            let to = export_path(&target, kind);
-            let button = ui.add_enabled(to.is_some(), egui::Button::new(kind.label()));
+        for format in Format::ALL {
+            let to = export_path(&target, format);
+            let label = format!("Export {}", format.name());
+            let button = ui.add_enabled(to.is_some(), egui::Button::new(label));
             let button = match &to {
                 Some(to) => button.on_hover_text(format!("Write {}", to.display())),
                 None => button.on_disabled_hover_text("Type a file name in the path field"),
@@ -321,7 +322,7 @@ pub fn files(ui: &mut Ui, path: &mut String, commands: &mut Vec<Command>) {
             if button.clicked()
                 && let Some(to) = to
             {
-                commands.push(Command::Export(kind, to));
+                commands.push(Command::Export(format, to));
             }
         }
     });

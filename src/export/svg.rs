@@ -135,6 +135,51 @@ pub fn alpha_colour(alpha: Option<f64>) -> [u8; 3] {
     [mix(0), mix(1), mix(2)]
 }
 
+/// The optional SVG layers drawn beside the chain.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct SvgLayers {
+    /// The raw samples. Default false.
+    pub samples: bool,
+    /// The B-splines. Default false.
+    pub bspline: bool,
+    /// The chain once more, one path per segment coloured by α. Default false.
+    pub alpha: bool,
+    /// The split points. Default false.
+    pub splits: bool,
+}
+
+impl SvgLayers {
+    /// The layer names [`SvgLayers::named`] takes, as `kansei fit --svg-layers` and the
+    /// service's `layers` do.
+    pub const NAMES: [&'static str; 4] = ["samples", "bspline", "alpha", "splits"];
+
+    /// No extra layer: the chain alone.
+    pub const NONE: SvgLayers = SvgLayers {
+        samples: false,
+        bspline: false,
+        alpha: false,
+        splits: false,
+    };
+
+    /// The samples alone (the app's export).
+    pub const SAMPLES: SvgLayers = SvgLayers {
+        samples: true,
+        ..SvgLayers::NONE
+    };
+
+    /// The layers named in `names` (of [`SvgLayers::NAMES`]; other names are ignored), the rest
+    /// off.
+    pub fn named(names: &[String]) -> Self {
+        let on = |name: &str| names.iter().any(|l| l == name);
+        SvgLayers {
+            samples: on("samples"),
+            bspline: on("bspline"),
+            alpha: on("alpha"),
+            splits: on("splits"),
+        }
+    }
+}
+
 /// Options of [`svg_document`]; lengths are in the data's units. Defaults per unit:
 /// [`SvgOptions::for_units`]; `Default` is that of millimetres.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -215,11 +260,15 @@ impl SvgOptions {
         self
     }
 
+    /// Sets the four optional layers from `layers`.
+    pub const fn with_layer_set(self, layers: SvgLayers) -> Self {
+        self.with_layers(layers.samples, layers.bspline, layers.alpha, layers.splits)
+    }
+
     /// Sets the optional layers by name (`samples`, `bspline`, `alpha`, `splits`, as
     /// `kansei fit --svg-layers` and the service's `layers` take them); other names are ignored.
     pub fn with_layer_names(self, names: &[String]) -> Self {
-        let on = |name: &str| names.iter().any(|l| l == name);
-        self.with_layers(on("samples"), on("bspline"), on("alpha"), on("splits"))
+        self.with_layer_set(SvgLayers::named(names))
     }
 
     /// The options with every length that is not a finite non-negative number (line width: not

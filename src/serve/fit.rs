@@ -3,9 +3,8 @@
 //! fit, and its document or export. Plain functions of bytes and options, so that the stream
 //! and the HTTP endpoints give the same answers.
 
-use crate::export::{CurveFile, DxfOptions, ExportOptions, SvgOptions, dxf_drawing, svg_document};
+use crate::export::{ExportOptions, Format, FormatError, FormatOptions, JsonLayout};
 use crate::pipeline::{FitOutput, PipelineOptions, fit_file};
-use crate::render::RenderOptions;
 use crate::stroke::{Stroke, StrokeFile};
 
 use super::error::ApiError;
@@ -74,42 +73,27 @@ pub fn fit(file: &StrokeFile, options: &PipelineOptions) -> Result<FitOutput, Ap
     fit_file(file, options).map_err(|e| ApiError::bad_request(e.to_string()))
 }
 
-/// The `kansei-curve` document of a fit, as `kansei fit` writes it.
-pub fn curve_json(output: &FitOutput, lcg: bool) -> String {
-    CurveFile::from_output_with(output, &ExportOptions { lcg }).to_json()
-}
-
-/// The SVG export (as `kansei fit --svg` with `--svg-layers layers`).
-pub fn svg(
+/// `output`, the fit of `file`, in `format` ([`Format::export`], as `kansei fit` writes it
+/// with the same options): a DXF or JSON that cannot be written is a `500`, a PNG that cannot be
+/// drawn (a size beyond the render's limits) a `400`.
+pub fn export(
+    format: Format,
     file: &StrokeFile,
     output: &FitOutput,
-    accuracy: Option<f64>,
-    layers: &[String],
-) -> String {
-    let options = SvgOptions {
-        accuracy,
-        ..SvgOptions::for_units(file.units)
-    }
-    .with_layer_names(layers);
-    svg_document(output, Some(file), &options).svg
-}
-
-/// The DXF export (as `kansei fit --dxf`).
-pub fn dxf(output: &FitOutput, accuracy: Option<f64>) -> Result<Vec<u8>, ApiError> {
-    dxf_drawing(output, &DxfOptions { accuracy })
-        .to_bytes()
-        .map_err(|e| ApiError::internal(format!("the DXF could not be written: {e}")))
-}
-
-/// The PNG export, as `kansei fit --png` draws it ([`crate::render::quick_look_png`]).
-pub fn png(
-    file: &StrokeFile,
-    output: &FitOutput,
-    size: (u32, u32),
-    options: &RenderOptions,
+    options: &FormatOptions,
 ) -> Result<Vec<u8>, ApiError> {
-    crate::render::quick_look_png(file, output, size, options)
-        .map_err(|e| ApiError::bad_request(e.to_string()))
+    match format.export(file, output, options) {
+        Ok(exported) => Ok(exported.bytes),
+        Err(e @ FormatError::Dxf(_)) => Err(ApiError::internal(format!(
+            "the DXF could not be written: {e}"
+        ))),
+        Err(FormatError::Json(e)) => Err(ApiError::internal(format!(
+            "the document could not be written: {e}"
+        ))),
+        Err(e @ (FormatError::Render(_) | FormatError::EmptyDrawing)) => {
+            Err(ApiError::bad_request(e.to_string()))
+        }
+    }
 }
 
 /// The compact `kansei-curve` document of one stroke of `units`, as `/v1/fit` fits a file
@@ -127,7 +111,12 @@ pub fn stroke_document(
     file.validate()
         .map_err(|e| ApiError::bad_request(e.to_string()))?;
     let output = fit(&file, options)?;
-    let doc = CurveFile::from_output_with(&output, &ExportOptions { lcg });
-    serde_json::to_string(&doc)
+    let options = FormatOptions {
+        json: ExportOptions { lcg },
+        json_layout: JsonLayout::Compact,
+        ..FormatOptions::default()
+    };
+    let bytes = export(Format::Json, &file, &output, &options)?;
+    String::from_utf8(bytes)
         .map_err(|e| ApiError::internal(format!("the document could not be written: {e}")))
 }

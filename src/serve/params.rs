@@ -20,13 +20,13 @@ pub const FIT_PARAMS: [&str; 7] = [
 ];
 
 /// The SVG layers `layers` may name (as `kansei fit --svg-layers`).
-pub const SVG_LAYERS: [&str; 4] = ["samples", "bspline", "alpha", "splits"];
+pub const SVG_LAYERS: [&str; 4] = crate::export::SvgLayers::NAMES;
 
 /// The PNG layers `layers` may name (as `kansei fit --png-layers`).
 pub const PNG_LAYERS: [&str; 10] = crate::render::OVERLAY_NAMES;
 
 /// The default PNG size, as `kansei fit --size`.
-pub const DEFAULT_PNG_SIZE: (u32, u32) = (1600, 1000);
+pub const DEFAULT_PNG_SIZE: (u32, u32) = crate::export::DEFAULT_PNG_SIZE;
 
 /// A request's query parameters, in order, each name at most once.
 #[derive(Clone, Debug, Default, PartialEq)]

@@ -10,12 +10,14 @@ use axum::response::{IntoResponse, Response};
 use axum::routing::{get, post};
 
 use super::error::ApiError;
-use super::fit::{RequestLimits, curve_json, dxf, fit, png, read_request, svg};
+use super::fit::{RequestLimits, export, fit, read_request};
 use super::limits::FitPool;
 use super::options::ServeOptions;
 use super::page;
 use super::params::{FIT_PARAMS, PNG_LAYERS, Params, SVG_LAYERS};
 use super::stream;
+use crate::export::{ExportOptions, Format, FormatOptions, PngOptions, SvgLayers};
+use crate::pipeline::PipelineOptions;
 use crate::render::{Overlays, RenderOptions};
 
 /// What every handler shares: the pool and the limits.
@@ -113,7 +115,7 @@ async fn not_found(method: Method, uri: Uri) -> ApiError {
     )
 }
 
-fn json_response(body: String) -> Response {
+fn json_response(body: impl IntoResponse) -> Response {
     ([(header::CONTENT_TYPE, "application/json")], body).into_response()
 }
 
@@ -164,7 +166,12 @@ async fn fit_endpoint(
         .run("fitting", move || {
             let file = read_request(&bytes, &limits)?;
             let output = fit(&file, &options)?;
-            Ok((curve_json(&output, lcg), output.below_floor()))
+            let formats = FormatOptions {
+                json: ExportOptions { lcg },
+                ..FormatOptions::default()
+            };
+            let json = export(Format::Json, &file, &output, &formats)?;
+            Ok((json, output.below_floor()))
         })
         .await?;
     let mut response = json_response(json);
@@ -186,19 +193,13 @@ async fn export_svg(
 ) -> Result<Response, ApiError> {
     let params = Params::parse(query.as_deref(), &allowed(&["layers", "accuracy"]))?;
     let options = params.pipeline_options()?;
-    let accuracy = params.accuracy()?;
-    let layers = params.layers(&SVG_LAYERS)?.unwrap_or_default();
-    let bytes = body(bytes, state.max_body_bytes)?;
-    let limits = state.limits;
-    let text = state
-        .pool
-        .run("fitting and writing the SVG", move || {
-            let file = read_request(&bytes, &limits)?;
-            let output = fit(&file, &options)?;
-            Ok(svg(&file, &output, accuracy, &layers))
-        })
-        .await?;
-    Ok(file_response("image/svg+xml", "kansei.svg", text))
+    let formats = FormatOptions {
+        accuracy: params.accuracy()?,
+        svg_layers: SvgLayers::named(&params.layers(&SVG_LAYERS)?.unwrap_or_default()),
+        ..FormatOptions::default()
+    };
+    let what = "fitting and writing the SVG";
+    export_file(&state, Format::Svg, options, formats, bytes, what).await
 }
 
 /// `POST /v1/export/dxf`.
@@ -209,17 +210,12 @@ async fn export_dxf(
 ) -> Result<Response, ApiError> {
     let params = Params::parse(query.as_deref(), &allowed(&["accuracy"]))?;
     let options = params.pipeline_options()?;
-    let accuracy = params.accuracy()?;
-    let bytes = body(bytes, state.max_body_bytes)?;
-    let limits = state.limits;
-    let data = state
-        .pool
-        .run("fitting and writing the DXF", move || {
-            let file = read_request(&bytes, &limits)?;
-            dxf(&fit(&file, &options)?, accuracy)
-        })
-        .await?;
-    Ok(file_response("image/vnd.dxf", "kansei.dxf", data))
+    let formats = FormatOptions {
+        accuracy: params.accuracy()?,
+        ..FormatOptions::default()
+    };
+    let what = "fitting and writing the DXF";
+    export_file(&state, Format::Dxf, options, formats, bytes, what).await
 }
 
 /// `POST /v1/export/png`.
@@ -237,15 +233,35 @@ async fn export_png(
             .as_deref()
             .map_or_else(Overlays::default, Overlays::named),
     );
+    let formats = FormatOptions {
+        png: PngOptions::default().with_size(size).with_render(render),
+        ..FormatOptions::default()
+    };
+    let what = "fitting and drawing the PNG";
+    export_file(&state, Format::Png, options, formats, bytes, what).await
+}
+
+/// An export endpoint's work once its query is read: the body read, fitted with `options` and
+/// written in `format` with `formats` on the pool (`what` names the work in its errors), sent
+/// as a download `kansei.EXTENSION` of the format's media type.
+async fn export_file(
+    state: &AppState,
+    format: Format,
+    options: PipelineOptions,
+    formats: FormatOptions,
+    bytes: Result<Bytes, BytesRejection>,
+    what: &str,
+) -> Result<Response, ApiError> {
     let bytes = body(bytes, state.max_body_bytes)?;
     let limits = state.limits;
     let data = state
         .pool
-        .run("fitting and drawing the PNG", move || {
+        .run(what, move || {
             let file = read_request(&bytes, &limits)?;
             let output = fit(&file, &options)?;
-            png(&file, &output, size, &render)
+            export(format, &file, &output, &formats)
         })
         .await?;
-    Ok(file_response("image/png", "kansei.png", data))
+    let name = format!("kansei.{}", format.extension());
+    Ok(file_response(format.mime_type(), &name, data))
 }
