@@ -480,14 +480,17 @@ fn jump_energy(curve: &BSpline) -> f64 {
         .sum()
 }
 
-/// Replaces the local (Newton) foot points of a fit by true distances to the whole curve. The
-/// search runs on local distances, which are upper bounds: a count that passes with them passes.
+/// Replaces the local (Newton) foot points of a fit by true distances to the curve, each on its
+/// sample's own pass ([`Pieces::distance_on_pass`]): where the stroke comes back near itself (a
+/// circle drawn past its start), its first sample's foot stays at the start, not at the end that
+/// passes as near. The search runs on local distances, which are upper bounds: a count that
+/// passes with them passes.
 fn exact(fit: BSplineFit, points: &[Point], tolerance: f64) -> BSplineFit {
     let pieces = Pieces::new(fit.curve.to_beziers());
     let feet: Vec<Foot> = points
         .iter()
         .zip(fit.params.iter().zip(&fit.distances))
-        .map(|(q, (&u, &distance))| pieces.distance(*q, Foot { u, distance }))
+        .map(|(q, (&u, &distance))| pieces.distance_on_pass(*q, Foot { u, distance }))
         .collect();
     let (attempts, fairing) = (fit.attempts, fit.fairing);
     let mut out = summarise(fit.curve, &feet, tolerance);

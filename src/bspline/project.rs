@@ -7,7 +7,7 @@
 //! could hold a closer point than the local one.
 
 use crate::geom::{ParamBez, ParamCurve, Point, Rect, Vec2, bounding_box};
-use kurbo::ParamCurveNearest;
+use kurbo::{ParamCurveArclen, ParamCurveNearest};
 
 /// Newton stops when its step moves the foot point by less than this fraction of the curve's
 /// size: 1e-13 is a few hundred ulps of a coordinate, below which the iteration only shuffles
@@ -18,6 +18,16 @@ const NEWTON_STEP_RELATIVE: f64 = 1e-13;
 /// previous parameter; eight steps leave it converged to rounding in every case seen, and the
 /// result is still a valid (upper-bound) distance if not.
 const NEWTON_MAX_STEPS: usize = 8;
+
+/// How much longer than straight the curve between a sample's local foot and a nearer foot may
+/// run for both to lie on the sample's own pass ([`Pieces::distance_on_pass`]): twice the
+/// distance between the feet (plus the sample's distance). A half circle runs π/2 of its chord,
+/// a loop or a return pass many times it.
+pub const PASS_ARC_FACTOR: f64 = 2.0;
+
+/// Accuracy of [`Pieces::arclen_between`], as a fraction of the chain's size: far below any
+/// difference [`PASS_ARC_FACTOR`] decides on.
+const ARCLEN_ACCURACY: f64 = 1e-9;
 
 /// Accuracy, in the Bézier parameter, of kurbo's exact nearest-point root isolation.
 const NEAREST_ACCURACY: f64 = 1e-12;
@@ -137,6 +147,52 @@ impl Pieces {
             }
         }
         best
+    }
+
+    /// The true distance from `q` to its own pass of the chain, starting from a local foot point
+    /// `near` (from [`Pieces::project_local`]): [`Pieces::distance`], but a nearer foot is taken
+    /// only where the curve between it and `near` runs about straight, no longer than
+    /// [`PASS_ARC_FACTOR`] times the distance between the two feet plus `near`'s distance. On a
+    /// stroke that comes back near itself (a circle drawn past its start, a figure eight, a
+    /// line gone over twice) another pass may come nearer to a sample than its own; the curve
+    /// from one pass to the other runs far (round the loop) for a short way across, so that foot
+    /// is not taken for the sample's own.
+    pub fn distance_on_pass(&self, q: Point, near: Foot) -> Foot {
+        let mut best = near;
+        let at_near = self.eval_derivs(near.u).0;
+        for (pb, b) in self.pieces.iter().zip(&self.boxes) {
+            let dx = (b.x0 - q.x).max(q.x - b.x1).max(0.0);
+            let dy = (b.y0 - q.y).max(q.y - b.y1).max(0.0);
+            if dx.hypot(dy) >= best.distance {
+                continue;
+            }
+            let n = pb.bez.nearest(q, NEAREST_ACCURACY);
+            let d = n.distance_sq.sqrt();
+            if !(d < best.distance) {
+                continue;
+            }
+            let u = pb.global(n.t);
+            let across = at_near.distance(pb.bez.eval(n.t));
+            if self.arclen_between(near.u, u) <= PASS_ARC_FACTOR * (across + near.distance) {
+                best = Foot { u, distance: d };
+            }
+        }
+        best
+    }
+
+    /// The length of the chain between the global parameters `a` and `b` (in either order).
+    pub fn arclen_between(&self, a: f64, b: f64) -> f64 {
+        let (a, b) = if a <= b { (a, b) } else { (b, a) };
+        let accuracy = ARCLEN_ACCURACY * self.scale.max(f64::MIN_POSITIVE);
+        self.pieces
+            .iter()
+            .filter(|p| p.u1 > a && p.u0 < b)
+            .map(|p| {
+                let t0 = p.local(a).clamp(0.0, 1.0);
+                let t1 = p.local(b).clamp(0.0, 1.0);
+                p.bez.subsegment(t0..t1).arclen(accuracy)
+            })
+            .sum()
     }
 
     /// The global parameter domain.

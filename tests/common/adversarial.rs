@@ -10,8 +10,10 @@
 //! 1e-12 relative), collinear runs, and strokes of very few distinct points (2 to 5). Most cases
 //! are in px at the default 0.5 px; some are scaled to mm at 0.1 mm, some use other tolerances.
 //!
-//! [`check`] measures each represented sample's distance to the chain itself, by evaluating
-//! every segment densely (see [`chain_polyline`] for the bound), and checks the report against
+//! [`check`] measures each represented sample's distance to its own segment (the honest measure:
+//! the segment whose range holds it, or one next to it at a joint; see
+//! [`own_segment_deviation`]), by evaluating every segment densely (see [`chain_polyline`] for
+//! the bound), and checks the report against
 //! it: the chain's `within_tolerance` and `max_deviation`, the segments' ranges tiling their
 //! piece, and every α accounted for by its record (`alpha_source`: a search's pick is the
 //! search's answer; no α without a source, no source without an α).
@@ -342,6 +344,41 @@ pub fn polyline_distance(q: Point, line: &[Point]) -> f64 {
         .fold(f64::INFINITY, f64::min)
 }
 
+/// The largest distance from a sample of the piece `piece` to its own segment (the first
+/// segment holding samples whose range holds it), or to a segment next to that one (a sample at
+/// a joint lies where both meet): the honest measure the record states, computed here on the
+/// segments' polylines `lines` ([`chain_polyline`]), not by the fitter. Another pass of the chain
+/// that comes near a sample does not count.
+pub fn own_segment_deviation(
+    chain: &kansei::chain::Chain,
+    lines: &[Vec<Point>],
+    samples: &[kansei::stroke::Sample],
+    (a, b): (usize, usize),
+) -> f64 {
+    let mut worst: f64 = 0.0;
+    for i in a..=b {
+        let q = samples[i].point();
+        let own = chain
+            .segments
+            .iter()
+            .position(|s| s.params.is_some() && (s.samples.0..=s.samples.1).contains(&i))
+            .or_else(|| {
+                chain
+                    .segments
+                    .iter()
+                    .position(|s| (s.samples.0..=s.samples.1).contains(&i))
+            })
+            .unwrap_or(0);
+        let near = own.saturating_sub(1)..=(own + 1).min(lines.len() - 1);
+        let d = lines[near]
+            .iter()
+            .map(|l| polyline_distance(q, l))
+            .fold(f64::INFINITY, f64::min);
+        worst = worst.max(d);
+    }
+    worst
+}
+
 /// Checks one stroke's fit (see the module doc). `result` is what `fit_stroke` returned.
 pub fn check(case: &Case, result: &Result<Vec<CurveFit>, PipelineError>) -> Breaks {
     let mut breaks = Breaks::default();
@@ -365,15 +402,7 @@ pub fn check(case: &Case, result: &Result<Vec<CurveFit>, PipelineError>) -> Brea
             .fold(1.0, f64::max);
         let slack = delta + CHECK_CHORD_FRACTION * tol + 1e-9 * scale;
         let (a, b) = fit.samples;
-        let mut worst: f64 = 0.0;
-        for i in a..=b {
-            let q = samples[i].point();
-            let d = lines
-                .iter()
-                .map(|l| polyline_distance(q, l))
-                .fold(f64::INFINITY, f64::min);
-            worst = worst.max(d);
-        }
+        let worst = own_segment_deviation(chain, &lines, samples, (a, b));
         if chain.within_tolerance && worst - slack > tol {
             breaks.guarantee.push(format!(
                 "samples {a}..={b}: within_tolerance but a sample is {worst} > {tol} from the chain"

@@ -6,6 +6,7 @@ pub mod browser;
 pub mod export;
 pub mod http;
 pub mod lac;
+pub mod loops;
 pub mod planted;
 
 use kansei::geom::Point;

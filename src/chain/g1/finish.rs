@@ -7,7 +7,7 @@ use crate::chain::alpha_evidence::{
     ALPHA_DIFFERENCE_STEP, AlphaBound, AlphaSource, alpha_uncertainty,
 };
 use crate::chain::assign::{param_interval, tile_ranges};
-use crate::chain::measure::nearest_deviation;
+use crate::chain::measure::own_deviation;
 use crate::chain::record::{Chain, ChainError, ChainSegment, Continuity};
 use crate::lac::{AlphaChoice, AlphaSearch, LacSegment};
 
@@ -23,9 +23,10 @@ impl<'a> Fitter<'a> {
     /// `params` is `None`) has the one-sample range of the sample before it, shared with the
     /// segment before it (with the next one's first if it is the first segment).
     ///
-    /// A segment's `max_deviation` is over the samples it holds; the chain's is each sample's
-    /// distance to the whole chain (the nearest segment, not only its own), so that
-    /// `within_tolerance` and `max_deviation` state the guarantee itself.
+    /// A segment's `max_deviation` is over the samples it holds; the chain's is the largest of
+    /// each sample's distance to its own segment ([`own_deviation`]), so that
+    /// `within_tolerance` and `max_deviation` state the guarantee itself, with no other pass of
+    /// a stroke that comes back near itself standing in for a segment that left its samples.
     pub(super) fn finish(
         &self,
         state: &State,
@@ -146,7 +147,7 @@ impl<'a> Fitter<'a> {
         )
     }
 
-    /// The largest distance from a sample to the chain (see [`nearest_deviation`]).
+    /// The largest distance from a sample to the chain (see [`own_deviation`]).
     pub(super) fn chain_deviation(
         &self,
         state: &State,
@@ -158,7 +159,7 @@ impl<'a> Fitter<'a> {
             .zip(&state.samples)
             .map(|(e, list)| e.residuals[..list.len()].iter().map(|r| r.abs()).collect())
             .collect();
-        nearest_deviation(
+        own_deviation(
             self.input.points,
             &segments,
             &state.samples,

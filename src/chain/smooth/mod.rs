@@ -101,7 +101,7 @@
 //! lines of a pixel or three at a painting stroke's reversal). A least-squares chain that misses
 //! the tolerance by a little is first refitted towards the minimax fit of the same segments
 //! (Lawson's reweighting, a few rounds). When the solved chain still leaves a sample farther than
-//! the tolerance from its nearest segment, every segment that misses is cut at its middle (a new
+//! the tolerance from its own segment, every segment that misses is cut at its middle (a new
 //! joint with that point's curvature: the two halves are the same curve, so the chain stays on its
 //! constraints) and the fit runs again, at most [`MAX_CUT_ROUNDS`] rounds and until
 //! [`STALLED_ROUNDS`] rounds in a row bring the worst sample no nearer. When that is not enough, a
@@ -427,8 +427,8 @@ pub(crate) fn smooth_chain(smooth: &SmoothInput) -> Option<Chain> {
             ..chain.clone()
         });
     }
-    // The whole chain's largest distance, each sample to its nearest segment: a part kept G1
-    // carries the whole G1 chain's figure, and a sample may lie nearer a neighbouring part.
+    // The whole chain's largest distance, each sample to its own segment (the honest measure):
+    // a part kept G1 carries the whole G1 chain's figure.
     let lists = own_points(smooth.input, &out);
     let max_deviation = measured_deviation(smooth.input, &out, &lists, smooth.chord_error);
     Some(Chain {

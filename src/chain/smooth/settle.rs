@@ -7,7 +7,7 @@ use super::lm::{minimax, solve};
 use super::removal::fewer_joints;
 use super::solver::{Evaluation, Solver, distances};
 use super::{MINIMAX_REACH, SmoothInput};
-use crate::chain::measure::nearest_deviation;
+use crate::chain::measure::own_deviation;
 use crate::chain::record::Chain;
 
 /// Whether the solved chain `e` of `x` (its samples assigned as `assign`, the largest distance
@@ -33,9 +33,8 @@ pub(super) fn holding(
     holds(smooth, &e).then_some(Some((e, a, z)))
 }
 
-/// Whether every sample of `e` is within the tolerance of its own segment, and so of the whole
-/// chain: a sample's distance to its own segment bounds its distance to the chain from above
-/// ([`nearest_deviation`] measures the chain's for the record, [`Solved::record`], once a
+/// Whether every sample of `e` is within the tolerance of its own segment, the chain's honest
+/// measure ([`own_deviation`] measures it afresh for the record, [`Solved::record`], once a
 /// part's answer is chosen). A distance that is not a number never holds.
 pub(super) fn holds(smooth: &SmoothInput, e: &Evaluation) -> bool {
     e.residuals
@@ -88,17 +87,17 @@ pub(super) struct Solved {
 }
 
 impl Solved {
-    /// The chain record, with the largest distance from a sample to its nearest segment.
+    /// The chain record, with the largest distance from a sample to its own segment.
     pub(super) fn record(&self, smooth: &SmoothInput) -> Chain {
         let (e, assign) = (&self.evaluation, &self.assign);
-        let nearest = nearest_deviation(
+        let largest = own_deviation(
             smooth.input.points,
             &e.segments,
             assign,
             &distances(e),
             smooth.chord_error,
         );
-        finish(smooth, &self.layout, e, assign, nearest)
+        finish(smooth, &self.layout, e, assign, largest)
     }
 }
 
