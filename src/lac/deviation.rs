@@ -18,7 +18,7 @@
 
 use super::segment::LacSegment;
 use super::special::{GAUSS_LEGENDRE_3, cis, cis_small, cmul};
-use crate::geom::{Point, Vec2};
+use crate::geom::{Point, Vec2, nearest_on_segment};
 
 /// Most polyline vertices used for one segment. A span whose required spacing would need more
 /// (an extreme curvature ratio) is traced at the coarser spacing this allows; the chord error
@@ -740,7 +740,7 @@ fn project_raw(polyline: &[(f64, Point)], samples: &[Point]) -> Deviation {
         while k + 1 < polyline.len() {
             let (s0, a) = polyline[k];
             let (s1, b) = polyline[k + 1];
-            let (d, f) = segment_distance(*q, a, b);
+            let (d, f) = nearest_on_segment(*q, a, b);
             if d < best.0 {
                 best = (d, s0 + f * (s1 - s0), k, (b - a).cross(*q - a).signum());
             }
@@ -755,18 +755,6 @@ fn project_raw(polyline: &[(f64, Point)], samples: &[Point]) -> Deviation {
         start = best.2;
     }
     out
-}
-
-/// Distance from `q` to segment `ab` and the foot's fraction along it.
-pub(crate) fn segment_distance(q: Point, a: Point, b: Point) -> (f64, f64) {
-    let ab: Vec2 = b - a;
-    let len2 = ab.hypot2();
-    let f = if len2 > 0.0 {
-        ((q - a).dot(ab) / len2).clamp(0.0, 1.0)
-    } else {
-        0.0
-    };
-    (q.distance(a + ab * f), f)
 }
 
 fn summarise(mut d: Deviation) -> Deviation {
