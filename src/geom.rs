@@ -58,6 +58,13 @@ pub fn bounding_box(points: impl IntoIterator<Item = Point>) -> Option<Rect> {
 
 /// Distance from `p` to the segment `a`–`b` (to `a` when the segment has no length).
 pub fn distance_to_segment(p: Point, a: Point, b: Point) -> f64 {
+    nearest_on_segment(p, a, b).0
+}
+
+/// The point of the segment `a`–`b` nearest to `p`: its distance from `p` and its fraction
+/// t ∈ [0, 1] along the segment (the foot is a + t·(b − a); t = 0 when the segment has no
+/// length). t is the projection (p − a)·(b − a)/|b − a|², clamped to the segment.
+pub fn nearest_on_segment(p: Point, a: Point, b: Point) -> (f64, f64) {
     let ab = b - a;
     let len2 = ab.hypot2();
     let t = if len2 > 0.0 {
@@ -65,13 +72,30 @@ pub fn distance_to_segment(p: Point, a: Point, b: Point) -> f64 {
     } else {
         0.0
     };
-    (p - (a + ab * t)).hypot()
+    ((p - (a + ab * t)).hypot(), t)
 }
 
-/// An angle brought into (−π, π].
+/// An angle brought into (−π, π], as atan2(sin a, cos a): within an ulp or so of its result,
+/// and exact for small angles of either sign (a difference of two nearly equal directions stays
+/// what it is), at the cost of a `sin_cos` and an `atan2`. The one the chain's joints use.
 pub fn wrap_angle(a: f64) -> f64 {
     let (sin, cos) = a.sin_cos();
     sin.atan2(cos)
+}
+
+/// An angle brought into (−π, π] by whole turns of 2π (`rem_euclid`, then one turn back above
+/// π): exact for a ≥ 0, where a − k·2π is computed without rounding; a negative angle is rounded
+/// once, to the resolution of 2π (≈ 9e-16). The one the Yoshida–Saito construction uses for the
+/// angles between the chord and the end tangents.
+///
+/// Two forms on purpose: every fit depends on which one each caller uses, bit for bit. Over the
+/// fixtures, planted chains and adversarial strokes of `tests/same_output.rs`, the construction
+/// through [`wrap_angle`] changes 466 of the 547 recorded fits, the chain through this one 108,
+/// and both through a third form (a ∈ (−π, π] unchanged, whole turns otherwise) 360.
+pub fn wrap_angle_by_turns(a: f64) -> f64 {
+    use std::f64::consts::{PI, TAU};
+    let w = a.rem_euclid(TAU);
+    if w > PI { w - TAU } else { w }
 }
 
 /// Arc length along the polyline at each of its points (0 at the first).
@@ -94,5 +118,59 @@ pub fn curvature_from_derivs(d1: Vec2, d2: Vec2) -> f64 {
         0.0
     } else {
         d1.cross(d2) / (f * f.sqrt())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_nearest_point_of_a_segment_is_its_foot_or_an_end() {
+        let (a, b) = (Point::new(1.0, 1.0), Point::new(5.0, 4.0)); // length 5
+        // Beside the segment: the perpendicular foot, 2 away, at t = 0.6 (3 along).
+        let foot = a + (b - a) * 0.6;
+        let normal = Vec2::new(-3.0, 4.0) * (1.0 / 5.0);
+        let (d, t) = nearest_on_segment(foot + normal * 2.0, a, b);
+        assert!((d - 2.0).abs() < 1e-15 && (t - 0.6).abs() < 1e-15);
+        // Before a and beyond b: the ends, at their distances.
+        let before = a - (b - a) * 0.2 + normal;
+        assert_eq!(nearest_on_segment(before, a, b), (before.distance(a), 0.0));
+        let beyond = b + (b - a) * 0.4;
+        assert_eq!(nearest_on_segment(beyond, a, b), (beyond.distance(b), 1.0));
+        // A segment without length is its point.
+        assert_eq!(nearest_on_segment(b, a, a), (b.distance(a), 0.0));
+        assert_eq!(distance_to_segment(foot + normal * 2.0, a, b), d);
+    }
+
+    #[test]
+    fn wrapped_angles_differ_by_whole_turns() {
+        use std::f64::consts::{PI, TAU};
+        let angles = [
+            0.0, 1e-300, -1e-300, 1e-15, -1e-15, 0.5, -0.5, 3.0, -3.0, PI, -PI, 4.0, -4.0, -6.07,
+            100.0, -1e6,
+        ];
+        for wrap in [wrap_angle, wrap_angle_by_turns] {
+            for a in angles {
+                let w = wrap(a);
+                assert!((-PI..=PI).contains(&w), "{a} -> {w}");
+                let turns = (a - w) / TAU;
+                assert!((turns - turns.round()).abs() < 1e-9, "{a} -> {w}");
+                assert!((w.sin() - a.sin()).abs() < 1e-9 && (w.cos() - a.cos()).abs() < 1e-9);
+            }
+        }
+        // Small angles are their own atan2 wrap, exactly, whatever their sign; by whole turns,
+        // angles in [0, π] are, and one turn is one subtraction of the f64 2π.
+        for a in [1e-300, -1e-300, 1e-15, -1e-15, 1e-8, -1e-8] {
+            assert_eq!(wrap_angle(a), a);
+        }
+        for a in [0.0, 1e-300, 1e-15, 0.5, 3.0, PI] {
+            assert_eq!(wrap_angle_by_turns(a), a);
+            assert_eq!(wrap_angle_by_turns(a + TAU), (a + TAU) - TAU);
+        }
+        // The two differ in the last bits: −2π by whole turns is 0, by atan2 the sine of the
+        // f64 2π.
+        assert_eq!(wrap_angle_by_turns(-TAU), 0.0);
+        assert!(wrap_angle(-TAU) > 0.0 && wrap_angle(-TAU) < 1e-15);
     }
 }

@@ -81,7 +81,7 @@ fn traced_distance(segment: &LacSegment, trace: &[(f64, Point)], q: Point) -> f6
     let mut previous: Option<(Point, f64)> = None;
     for &(sb, b) in trace {
         let (a, sa) = previous.unwrap_or((b, sb));
-        let (d, f) = crate::lac::deviation::segment_distance(q, a, b);
+        let (d, f) = crate::geom::nearest_on_segment(q, a, b);
         if d < best.0 {
             best = (d, sa + f * (sb - sa));
         }

@@ -87,9 +87,7 @@ mod tests {
                 s1.end()
             );
             assert!(s0.end().distance(s1.start()) < 1e-9 * s0.length());
-            let wrap = |x: f64| {
-                (x + std::f64::consts::PI).rem_euclid(std::f64::consts::TAU) - std::f64::consts::PI
-            };
+            let wrap = crate::geom::wrap_angle;
             assert!(wrap(s0.theta1() - s1.theta0()).abs() < 1e-9);
             assert!(
                 wrap(s1.theta1() - ang_b).abs() < 1e-9,

@@ -16,9 +16,10 @@
 //! within `chord_error` (the polyline lies inside the curve's convex side by at most that much);
 //! [`deviation`] then polishes them into exact foot-point distances.
 
+use super::quadrature::{GAUSS_LEGENDRE_3, Panel, panel_count};
 use super::segment::LacSegment;
-use super::special::{GAUSS_LEGENDRE_3, cis, cis_small, cmul};
-use crate::geom::{Point, Vec2};
+use super::special::{cis, cis_small, cmul};
+use crate::geom::{Point, Vec2, nearest_on_segment};
 
 /// Most polyline vertices used for one segment. A span whose required spacing would need more
 /// (an extreme curvature ratio) is traced at the coarser spacing this allows; the chord error
@@ -638,19 +639,18 @@ const SERIES_FLOOR: f64 = 1e-18;
 /// |κ| over [a, b].
 fn stepped(segment: &LacSegment, a: f64, b: f64, kappa: f64) -> Vec2 {
     let turn = kappa * (b - a).abs();
-    let steps = ((turn / POLISH_STEP_TURN).ceil() as usize).clamp(1, MAX_POLISH_STEPS);
-    let h = (b - a) / steps as f64;
+    let steps = panel_count(turn, POLISH_STEP_TURN).min(MAX_POLISH_STEPS);
     let mut sum = Vec2::ZERO;
-    let (w0, w1, x1) = GAUSS_LEGENDRE_3;
-    for i in 0..steps {
-        let mid = a + h * (i as f64 + 0.5);
+    let [(outer_weight, _), (middle_weight, _), (_, outer)] = GAUSS_LEGENDRE_3;
+    for Panel { mid, half } in Panel::equal(a, b, steps) {
         // e^{iθ} at the nodes as e^{iθ_mid}·e^{i(θ − θ_mid)}: one sin_cos per step, the rest by
         // the small-angle series (the step turns at most POLISH_STEP_TURN); the angles around
-        // the middle as increments on it (see `LacSegment::theta_around`).
-        let [before, theta_mid, after] = segment.theta_around(mid, 0.5 * h * x1);
+        // the middle as increments on it (see `LacSegment::theta_around`), the outer two
+        // weighted together.
+        let [before, theta_mid, after] = segment.theta_around(mid, half * outer);
         let phase_mid = cis(theta_mid);
         let sides = cis_small(before - theta_mid) + cis_small(after - theta_mid);
-        sum += (phase_mid * w0 + cmul(phase_mid, sides) * w1) * (0.5 * h);
+        sum += (phase_mid * middle_weight + cmul(phase_mid, sides) * outer_weight) * half;
     }
     sum
 }
@@ -740,7 +740,7 @@ fn project_raw(polyline: &[(f64, Point)], samples: &[Point]) -> Deviation {
         while k + 1 < polyline.len() {
             let (s0, a) = polyline[k];
             let (s1, b) = polyline[k + 1];
-            let (d, f) = segment_distance(*q, a, b);
+            let (d, f) = nearest_on_segment(*q, a, b);
             if d < best.0 {
                 best = (d, s0 + f * (s1 - s0), k, (b - a).cross(*q - a).signum());
             }
@@ -755,18 +755,6 @@ fn project_raw(polyline: &[(f64, Point)], samples: &[Point]) -> Deviation {
         start = best.2;
     }
     out
-}
-
-/// Distance from `q` to segment `ab` and the foot's fraction along it.
-pub(crate) fn segment_distance(q: Point, a: Point, b: Point) -> (f64, f64) {
-    let ab: Vec2 = b - a;
-    let len2 = ab.hypot2();
-    let f = if len2 > 0.0 {
-        ((q - a).dot(ab) / len2).clamp(0.0, 1.0)
-    } else {
-        0.0
-    };
-    (q.distance(a + ab * f), f)
 }
 
 fn summarise(mut d: Deviation) -> Deviation {

@@ -49,6 +49,7 @@
 //! up to 16 nodes at α near 0), is then a few panels at most, none where the whole span turns
 //! less than a radian.
 
+use super::quadrature::Panel;
 use super::special::{cis, cis_small, cmul, exprel};
 use crate::geom::Vec2;
 use kurbo::common::{GAUSS_LEGENDRE_COEFFS_8, GAUSS_LEGENDRE_COEFFS_11, GAUSS_LEGENDRE_COEFFS_16};
@@ -193,7 +194,7 @@ pub(crate) fn integrals(
         if hi <= lo {
             break;
         }
-        let (half, mid) = (0.5 * (hi - lo), 0.5 * (hi + lo));
+        let Panel { mid, half } = Panel::over(lo, hi);
         let width = hi - lo;
         let size = alpha.abs() * width + rate * width * exprel(beta.abs() * width);
         // Nodes in ± pairs about the middle (the rules are symmetric): with r = c·e^{β·mid},

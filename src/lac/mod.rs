@@ -9,8 +9,10 @@
 //! * [`standard`]: the normalised form (origin, tangent +x, ρ(0) = 1, shape parameter Λ): κ(s),
 //!   θ(s), s(θ) in closed form, P(s) by closed forms (α = 1, 2) or quadrature.
 //! * [`log_radius`]: the fast quadrature in w = ln ρ, whose integrand is entire.
-//! * [`quadrature`]: adaptive Gauss–Legendre panels graded in ln ρ, with an exact series at the
-//!   κ = 0 end of α < 0 curves.
+//! * [`quadrature`]: the Gauss–Legendre rules and panels every integral of e^{iθ} here is
+//!   written with (and which integrator is used where, and why they differ), and the adaptive
+//!   arc-length integrator: panels graded in ln ρ, with an exact series at the κ = 0 end of
+//!   α < 0 curves.
 //! * [`segment`]: the canonical segment record ([`LacSegment`], JSON via serde) and its evaluation,
 //!   including the rendering fast path [`LacSegment::samples`].
 //! * [`yoshida_saito`]: the segment of a given α joining G1 end data ([`fit_g1`]).

@@ -39,8 +39,9 @@
 //! the feet in order of w, each panel turning at most [`PANEL_TURN`] (and changing e^{αw} by at
 //! most that exponent): about 1e-8 relative, far more than a Gauss–Newton step needs.
 
+use super::quadrature::{GAUSS_LEGENDRE_2, GAUSS_LEGENDRE_3, Panel, add_nodes, panel_count};
 use super::segment::LacSegment;
-use super::special::{GAUSS_LEGENDRE_3, SERIES_TERM_EPS, cdiv, cis, cmul, conj, exprel};
+use super::special::{SERIES_TERM_EPS, cdiv, cis, cmul, conj, exprel};
 use crate::geom::Vec2;
 
 /// Largest phase change (radians), and largest change of the exponent αw, over one panel of the
@@ -54,9 +55,6 @@ const PANEL_TURN: f64 = 0.5;
 /// implicit derivative of q, a quotient by the small φ_q near the drawable region's limit,
 /// magnified the errors to 5e-3 at α = 3 (see the tests).
 const GL2_MAX_SPREAD: f64 = 0.05;
-
-/// The 2-point Gauss–Legendre abscissa 1/√3.
-const GL2_NODE: f64 = 0.577_350_269_189_625_8;
 
 /// Most panels of one pass: a segment needing more (an extreme curvature ratio at a large |α|)
 /// is left to the caller's differences.
@@ -150,36 +148,23 @@ impl LogRadiusShape {
         let beta = self.alpha - 1.0;
         let rate = self.theta_t * (beta * a).exp().max((beta * b).exp()) / self.g_q;
         let spread = rate.max(self.alpha.abs()) * (b - a);
-        let n = ((spread / PANEL_TURN).ceil() as usize).max(1);
+        let n = panel_count(spread, PANEL_TURN);
         *panels += n;
         if *panels > MAX_PANELS {
             return None;
         }
-        let step = (b - a) / n as f64;
         let mut sum = [Vec2::ZERO; 4];
+        // Each node's four integrands, weighted by its weight times the half width.
+        let mut add_panel = |rule: &[(f64, f64)], panel: Panel| {
+            add_nodes(&mut sum, rule, panel, |w, weight| {
+                self.integrands(w).map(|v| v * (weight * panel.half))
+            });
+        };
         if spread <= GL2_MAX_SPREAD {
-            // One 2-point panel (nodes ±1/√3, weights 1).
-            let (mid, half) = (0.5 * (a + b), 0.5 * (b - a));
-            for x in [-GL2_NODE, GL2_NODE] {
-                for (s, v) in sum.iter_mut().zip(self.integrands(mid + half * x)) {
-                    *s += v * half;
-                }
-            }
-            return Some(sum);
-        }
-        let (w0, w1, x1) = GAUSS_LEGENDRE_3;
-        for k in 0..n {
-            let mid = a + step * (k as f64 + 0.5);
-            let half = 0.5 * step;
-            let nodes = [
-                (self.integrands(mid - half * x1), w1),
-                (self.integrands(mid), w0),
-                (self.integrands(mid + half * x1), w1),
-            ];
-            for (values, weight) in nodes {
-                for (s, v) in sum.iter_mut().zip(values) {
-                    *s += v * (weight * half);
-                }
+            add_panel(&GAUSS_LEGENDRE_2, Panel::over(a, b));
+        } else {
+            for panel in Panel::equal(a, b, n) {
+                add_panel(&GAUSS_LEGENDRE_3, panel);
             }
         }
         Some(sum)
@@ -354,22 +339,17 @@ fn arc_sensitivities(segment: &LacSegment, feet: &[f64]) -> Option<Vec<Sensitivi
     let mut panels = 0;
     // [J₀, J₁, J₂] over [a, b].
     let mut moments = |a: f64, b: f64| -> Option<[Vec2; 3]> {
-        let n = ((turn.abs() * (b - a) / PANEL_TURN).ceil() as usize).max(1);
+        let n = panel_count(turn.abs() * (b - a), PANEL_TURN);
         panels += n;
         if panels > MAX_PANELS {
             return None;
         }
-        let (step, half) = ((b - a) / n as f64, 0.5 * (b - a) / n as f64);
-        let (w0, w1, x1) = GAUSS_LEGENDRE_3;
         let mut sum = [Vec2::ZERO; 3];
-        for k in 0..n {
-            let mid = a + step * (k as f64 + 0.5);
-            for (x, w) in [(mid - half * x1, w1), (mid, w0), (mid + half * x1, w1)] {
-                let e = cis(theta0 + turn * x) * (w * half);
-                sum[0] += e;
-                sum[1] += e * x;
-                sum[2] += e * (x * x);
-            }
+        for panel in Panel::equal(a, b, n) {
+            add_nodes(&mut sum, &GAUSS_LEGENDRE_3, panel, |x, w| {
+                let e = cis(theta0 + turn * x) * (w * panel.half);
+                [e, e * x, e * (x * x)]
+            });
         }
         Some(sum)
     };

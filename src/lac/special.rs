@@ -28,11 +28,6 @@ pub(crate) const SERIES_TERM_EPS: f64 = 1e-18;
 /// where its argument is ≤ 1 in magnitude, where 25 terms already reach 1/25! ≈ 6e-26.
 pub(crate) const SERIES_MAX_TERMS: usize = 40;
 
-/// The 3-point Gauss–Legendre rule on [−1, 1]: weight of the middle node, weight of the outer
-/// nodes, and their abscissa ±√(3/5).
-pub(crate) const GAUSS_LEGENDRE_3: (f64, f64, f64) =
-    (8.0 / 9.0, 5.0 / 9.0, 0.774_596_669_241_483_4);
-
 /// `exprel(x) = (eˣ − 1)/x`, continuous at 0 with value 1; `exprel(−∞) = 0`.
 pub(crate) fn exprel(x: f64) -> f64 {
     if x.abs() < RELATIVE_SERIES_BELOW {

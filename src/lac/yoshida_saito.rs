@@ -36,8 +36,7 @@ use super::segment::LacSegment;
 use super::special::exprel;
 use super::special::{SERIES_TERM_EPS, cdiv, cexpm1, cis, cmul};
 use super::standard::involute_g;
-use crate::geom::{Point, Vec2};
-use std::f64::consts::PI;
+use crate::geom::{Point, Vec2, wrap_angle_by_turns};
 
 /// End angles equal to within this (radians) give a circular arc. Snapping moves each end tangent
 /// by at most half of it; 1e-12 rad is far below any pen data and keeps the root finder away from
@@ -96,12 +95,6 @@ const NEWTON_SETTLED_RATIO: f64 = 0.01;
 /// Absolute tolerance on q for the root finder. dφ/dq ≤ O(1), so the end-angle error this
 /// leaves is ≲ 1e-13 rad, and the curvature ratio is off by ≲ 1e-13 relative.
 pub const LOG_RATIO_TOLERANCE: f64 = 1e-13;
-
-/// Angle wrapped to (−π, π].
-fn wrap(a: f64) -> f64 {
-    let w = a.rem_euclid(2.0 * PI);
-    if w > PI { w - 2.0 * PI } else { w }
-}
 
 /// The standard-form span with total turning θ_T and log curvature ratio q (`None`: the κ = 0
 /// edge, α < 0): ρ(0) = 1, start at the origin along +x.
@@ -295,8 +288,8 @@ impl Normalised {
     fn new(chord: Vec2, ta: Vec2, tb: Vec2) -> Self {
         let psi = chord.atan2();
         let angle_a = ta.atan2();
-        let theta_a = wrap(psi - angle_a);
-        let theta_b = wrap(tb.atan2() - psi);
+        let theta_a = wrap_angle_by_turns(psi - angle_a);
+        let theta_b = wrap_angle_by_turns(tb.atan2() - psi);
         let sigma = if theta_a + theta_b >= 0.0 { 1.0 } else { -1.0 };
         let (ea, eb) = (sigma * theta_a, sigma * theta_b);
         Normalised {
@@ -879,7 +872,7 @@ mod tests {
                 let series = limit_chord_angle(alpha, theta_t).expect("α < 0");
                 // atan2 wraps to (−π, π]; the series does not.
                 assert!(
-                    wrap(edge - series).abs() < 1e-12,
+                    wrap_angle_by_turns(edge - series).abs() < 1e-12,
                     "α {alpha} θ_T {theta_t}: {edge} vs {series}"
                 );
             }
@@ -890,7 +883,7 @@ mod tests {
                     .0;
                 let series = limit_chord_angle(alpha, theta_t).expect("α > 1");
                 assert!(
-                    wrap(far - series).abs() < 1e-11,
+                    wrap_angle_by_turns(far - series).abs() < 1e-11,
                     "α {alpha} θ_T {theta_t}: {far} vs {series}"
                 );
             }
