@@ -5,7 +5,9 @@
 //! profile's error (median), and how many fell back to G1, missed the tolerance or broke into
 //! pieces.
 //!
-//! `cargo run --release --example loop_shapes [per_class] [seed]` (defaults 10 and 1).
+//! `cargo run --release --example loop_shapes [per_class] [seed] [dir]` (defaults 10 and 1):
+//! with a directory, every stroke is written there as `<name>.json` (`kansei-stroke`), to fit
+//! again with `kansei fit`. `VERBOSE=1` prints a line per stroke.
 
 #[path = "../tests/common/mod.rs"]
 mod common;
@@ -23,7 +25,17 @@ fn main() {
     let mut args = std::env::args().skip(1);
     let per_class: usize = args.next().and_then(|a| a.parse().ok()).unwrap_or(10);
     let seed: u64 = args.next().and_then(|a| a.parse().ok()).unwrap_or(1);
+    let dir = args.next();
     let all = shapes(per_class, seed);
+    if let Some(dir) = &dir {
+        for shape in &all {
+            let file = kansei::stroke::StrokeFile::new(shape.units, vec![shape.stroke.clone()]);
+            let path = format!("{dir}/{}.json", shape.name);
+            if let Err(e) = std::fs::write(&path, file.to_json()) {
+                eprintln!("{path}: {e}");
+            }
+        }
+    }
     println!(
         "| class | strokes | segments median / max | chain↔shape beyond the samples' error (tol) max | profile error median | G1 | outside tol | several pieces |"
     );

@@ -49,6 +49,19 @@ const LCG_GUESS_POINTS: usize = 16;
 /// The limits of [`Fitter::search`] for a search that never gives up.
 const NEVER_ABANDON: (f64, f64) = (f64::INFINITY, f64::INFINITY);
 
+/// Most a starting segment may turn (radians). A segment between two joints is fixed by their
+/// positions and tangents, and the tangents' angles, each read against the chord between the
+/// joints, say nothing of whole turns: what one segment can turn lies within a turn either way.
+/// Runs that turn farther (a spiral, a circle drawn past its start: one span without curvature
+/// extrema) are cut at equal turning into parts of at most three quarters of a turn, clear of
+/// that limit. (A half turn cut runs the construction joins: a planted flat-point chain's third
+/// segment turns 3.4 rad and came back as two.)
+const MAX_RUN_TURNING: f64 = 1.5 * std::f64::consts::PI;
+
+/// Tangent directions read per Bézier piece of the B-spline to find a run's turning: a piece of a
+/// fitted B-spline turns far less than a quarter turn between two of them.
+const TURNING_POINTS_PER_PIECE: usize = 8;
+
 /// The G1 chain of `input` within `tolerance` (see the module documentation), with the
 /// resolution it was measured at.
 pub(crate) fn fit_g1(
@@ -336,11 +349,21 @@ impl<'a> Fitter<'a> {
         let mut joints = vec![self.joint_at(all[0].u0, all[0].start.into())];
         let (mut alphas, mut samples, mut searches) = (Vec::new(), Vec::new(), Vec::new());
         let mut fits = Vec::new();
+        // Each run, cut where it turns too far for one segment (see `MAX_RUN_TURNING`).
+        let mut parts = Vec::new();
         for run in runs {
             let (first, last) = (&all[run.start], &all[run.end - 1]);
-            let (u0, u1) = (first.u0, last.u1);
+            let cuts = self.turning_cuts(first.u0, last.u1);
+            let mut u = first.u0;
+            for &c in &cuts {
+                parts.push((run.clone(), (u, c), JointKind::Subdivision));
+                u = c;
+            }
+            parts.push((run.clone(), (u, last.u1), last.end.into()));
+        }
+        for (run, (u0, u1), end_kind) in parts {
             let start = *joints.last().ok_or(ChainError::Input("no joints"))?;
-            let end = self.joint_at(u1, last.end.into());
+            let end = self.joint_at(u1, end_kind);
             let held = self.samples_in(u0, u1);
             let pieces: Vec<_> = all[run.clone()]
                 .iter()
@@ -374,6 +397,48 @@ impl<'a> Fitter<'a> {
             }
         }
         Ok((state, searches))
+    }
+
+    /// Where to cut the B-spline between `u0` and `u1` so that no part turns more than
+    /// [`MAX_RUN_TURNING`]: at equal steps of its turning (none where it turns less). A spiral
+    /// has no curvature extremum and a circle drawn past its start none that its samples
+    /// show, so one span can turn more than a whole turn; a segment between two joints is fixed
+    /// by their tangents, whose angles say nothing of whole turns between them, and the seed
+    /// paper's construction turns less than a half turn.
+    fn turning_cuts(&self, u0: f64, u1: f64) -> Vec<f64> {
+        let first = self.pieces.locate(u0);
+        let last = self.pieces.locate(u1);
+        let n = TURNING_POINTS_PER_PIECE * (last - first + 1);
+        let angle = |u: f64| {
+            let (_, d1, _) = self.pieces.eval_derivs(u);
+            d1.y.atan2(d1.x)
+        };
+        // The turning from u0 at each of n + 1 parameters.
+        let us: Vec<f64> = (0..=n)
+            .map(|i| u0 + (u1 - u0) * i as f64 / n as f64)
+            .collect();
+        let mut turned = vec![0.0; us.len()];
+        let mut previous = angle(u0);
+        for i in 1..us.len() {
+            let a = angle(us[i]);
+            turned[i] = turned[i - 1] + crate::geom::wrap_angle(a - previous);
+            previous = a;
+        }
+        let total = turned.last().copied().unwrap_or(0.0).abs();
+        let parts = (total / MAX_RUN_TURNING).ceil() as usize;
+        if parts <= 1 {
+            return Vec::new();
+        }
+        (1..parts)
+            .filter_map(|k| {
+                let target = total * k as f64 / parts as f64;
+                let i = turned.iter().position(|t| t.abs() >= target)?;
+                // Linear between the two parameters around the target.
+                let (a, b) = (turned[i - 1].abs(), turned[i].abs());
+                let f = if b > a { (target - a) / (b - a) } else { 0.0 };
+                Some(us[i - 1] + f * (us[i] - us[i - 1]))
+            })
+            .collect()
     }
 
     /// The runs of consecutive spans that start as one segment each: a run closes once it holds
