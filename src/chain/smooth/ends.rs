@@ -11,7 +11,7 @@ use crate::lac::LacSegment;
 /// `segments` (a G1 chain) without its end tail, where it has one: at the stroke's own end,
 /// the run of segments that each touch a joint bending beyond `cap` (a joint the smooth chain
 /// would make a corner) and together hold at most [`MAX_TAIL_SAMPLES`] samples. The segment
-/// before the run is extended along its own law to the chain's end (see [`extended`]) and
+/// before the run is extended along its own law to the chain's end (see [`extend`]) and
 /// takes the run's samples; the smooth fit then moves its end (a free end moves across its
 /// tangent only, so the samples must be within its reach from the start). The G1 chain's
 /// subdivisions and biarc repairs at a free end, where the B-spline's end follows the last
@@ -55,7 +55,7 @@ pub(super) fn without_end_tail(segments: &[ChainSegment], cap: f64) -> Option<Ve
     let mut kept = segments[..t].to_vec();
     let last = kept.last_mut()?;
     let reach = last.segment.end().distance(end);
-    last.segment = extended(&last.segment, last.segment.length() + reach)?;
+    last.segment = extend(&last.segment, last.segment.length() + reach)?;
     last.samples.1 = segments[n - 1].samples.1;
     last.end = JointKind::End;
     Some(kept)
@@ -66,7 +66,7 @@ pub(super) fn without_end_tail(segments: &[ChainSegment], cap: f64) -> Option<Ve
 /// curvature at either end (left as it is: a curvature that ends at zero cannot go on, and the
 /// rare spiral leaving zero is not worth a special case) and where the law runs out before
 /// `length` (a curvature falling to zero within it, for α < 0).
-pub(super) fn extended(segment: &LacSegment, length: f64) -> Option<LacSegment> {
+pub(super) fn extend(segment: &LacSegment, length: f64) -> Option<LacSegment> {
     let (k0, k1, l) = (segment.kappa0(), segment.kappa1(), segment.length());
     let kappa = match segment.alpha() {
         _ if k0 == k1 => k1,

@@ -374,7 +374,7 @@ pub(super) fn perp(v: Vec2) -> Vec2 {
 }
 
 /// `x` moved by `delta` over `vars`.
-pub(super) fn moved(layout: &Layout, x: &Params, vars: &[Var], delta: &DVector<f64>) -> Params {
+pub(super) fn step_by(layout: &Layout, x: &Params, vars: &[Var], delta: &DVector<f64>) -> Params {
     let mut out = x.clone();
     for (i, &var) in vars.iter().enumerate() {
         set(layout, &mut out, var, get(layout, x, var) + delta[i]);

@@ -2,7 +2,7 @@
 //! minimax rounds.
 
 use super::jacobian::{ConstraintJacobian, shooting_jacobian};
-use super::layout::{Form, Layout, Params, moved};
+use super::layout::{Form, Layout, Params, step_by};
 use super::normal::{Normal, NormalPattern, band_order, normal_equations};
 use super::project::{LeastNorm, constraint_order, project};
 use super::solver::{Evaluation, Solver, largest_distance, reassigned};
@@ -370,7 +370,7 @@ pub(super) fn levenberg_marquardt(
                 if !(predicted > stop_below) {
                     break;
                 }
-                let mut trial = moved(layout, x, &vars, &delta);
+                let mut trial = step_by(layout, x, &vars, &delta);
                 let factor = chord
                     .get_or_insert_with(|| LeastNorm::new(&jc, &constraint_rows))
                     .as_ref();
@@ -385,7 +385,7 @@ pub(super) fn levenberg_marquardt(
                 // Chord steps that do not reach the constraints: once more with fresh
                 // Jacobians before the step is refused (see [`project`]).
                 .or_else(|| {
-                    trial = moved(layout, x, &vars, &delta);
+                    trial = step_by(layout, x, &vars, &delta);
                     project(Form::Shooting, solver, layout, &mut trial, &c3_joints, None)
                 });
                 let Some(segments) = projected else {

@@ -4,7 +4,7 @@
 use super::ends::curvature_cap;
 use super::layout::{Layout, Params};
 use super::lm::solve;
-use super::settle::{holding, settled};
+use super::settle::{hold_tolerance, settle};
 use super::solver::{Solver, distances, worst_sample};
 use super::start::{cut, g1_alpha_start, start_layout};
 use super::{
@@ -149,7 +149,7 @@ pub(super) fn smooth_from(
         }
         let own = distances(&evaluation);
         let (worst, _) = worst_sample(&own);
-        if let Some(refit) = holding(
+        if let Some(refit) = hold_tolerance(
             smooth,
             &mut solver,
             &layout,
@@ -160,7 +160,7 @@ pub(super) fn smooth_from(
                 Some((e, a, z)) => (e, a.as_slice(), z),
                 None => (&evaluation, assign.as_slice(), &x),
             };
-            let answer = settled(smooth, &mut solver, (&layout, z, a, e), refit.is_none());
+            let answer = settle(smooth, &mut solver, (&layout, z, a, e), refit.is_none());
             return Ok(answer.record(smooth));
         }
         if let missed @ Missed::Bound(_) = on_bound(&layout, &x, &chain.segments, max_log_kappa) {

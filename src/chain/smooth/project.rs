@@ -3,7 +3,7 @@
 
 use super::END_TOLERANCE;
 use super::jacobian::{ConstraintJacobian, constraint_jacobian};
-use super::layout::{Form, Layout, Params, moved};
+use super::layout::{Form, Layout, Params, step_by};
 use super::lm::{FRESH_REUSE_RATE, PROJECTION_STEPS, TRIAL_PROJECTION_STEPS};
 use super::normal::positions;
 use super::solver::Solver;
@@ -106,7 +106,7 @@ pub(super) fn project(
                     step
                 }
             };
-            *x = moved(layout, x, &vars, &step);
+            *x = step_by(layout, x, &vars, &step);
         }
         None
     };

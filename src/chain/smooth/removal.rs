@@ -3,7 +3,7 @@
 
 use super::layout::{Layout, Params};
 use super::lm::solve;
-use super::settle::{Solved, holding};
+use super::settle::{Solved, hold_tolerance};
 use super::solver::{Evaluation, Solver, distances, worst_sample};
 use super::start::{join_at, set_alpha_bounds};
 use super::{REMOVAL_REACH, SmoothInput};
@@ -61,7 +61,7 @@ pub(super) fn fewer_joints(
         joints.sort_by(|p, q| p.0.total_cmp(&q.0));
         for (_, j) in joints {
             failed[j] = true;
-            let Some(found) = removed(
+            let Some(found) = remove_joints(
                 smooth,
                 solver,
                 (&layout, &x, assign.as_slice(), &kept),
@@ -72,8 +72,8 @@ pub(super) fn fewer_joints(
             };
             removed_any = true;
             (layout, x, assign, kept) = (found.layout, found.x, found.assign, found.evaluation);
-            dropped(&mut failed, &[j]);
-            dropped(&mut failed_move, &[j]);
+            drop_joints(&mut failed, &[j]);
+            drop_joints(&mut failed_move, &[j]);
             continue 'fewer;
         }
         // No joint can go as it is: where the curvature falls towards zero and rises again
@@ -91,7 +91,7 @@ pub(super) fn fewer_joints(
                 continue;
             }
             failed_move[at] = true;
-            let found = removed(
+            let found = remove_joints(
                 smooth,
                 solver,
                 (&layout, &x, assign.as_slice(), &kept),
@@ -103,8 +103,8 @@ pub(super) fn fewer_joints(
             };
             removed_any = true;
             (layout, x, assign, kept) = (found.layout, found.x, found.assign, found.evaluation);
-            dropped(&mut failed, &drops);
-            dropped(&mut failed_move, &drops);
+            drop_joints(&mut failed, &drops);
+            drop_joints(&mut failed_move, &drops);
             continue 'fewer;
         }
         break;
@@ -120,7 +120,7 @@ pub(super) fn fewer_joints(
 /// Per-joint flags of [`fewer_joints`] once the joints `drops` (in decreasing order) went: their
 /// entries removed, and those of the joined segments' joints cleared (their neighbourhood
 /// changed, so what failed there may hold now).
-pub(super) fn dropped(flags: &mut Vec<bool>, drops: &[usize]) {
+pub(super) fn drop_joints(flags: &mut Vec<bool>, drops: &[usize]) {
     for &d in drops {
         if d < flags.len() {
             flags.remove(d);
@@ -140,9 +140,9 @@ pub(super) fn dropped(flags: &mut Vec<bool>, drops: &[usize]) {
 /// order, each joining the segments on its two sides) and, first, the joint of `reset` made a
 /// zero joint or given its curvature, solved locally ([`REMOVAL_REACH`] segments each side of
 /// the joined ones move, the rest of the part stays and keeps its samples' distances): the
-/// solved chain where it holds the tolerance (or does after minimax rounds, see [`holding`]).
+/// solved chain where it holds the tolerance (or does after minimax rounds, see [`hold_tolerance`]).
 /// `None` otherwise.
-pub(super) fn removed(
+pub(super) fn remove_joints(
     smooth: &SmoothInput,
     solver: &mut Solver,
     (layout, x, assign, kept): (&Layout, &Params, &[Vec<usize>], &Evaluation),
@@ -188,7 +188,7 @@ pub(super) fn removed(
     let mut tried = None;
     if let Some(e) = solve(solver, &l, &mut y, &mut a, Some((&near, &near_assign))) {
         let worst = worst_sample(&distances(&e)).0;
-        if let Some(refit) = holding(smooth, solver, &l, (&y, &a, &e), worst) {
+        if let Some(refit) = hold_tolerance(smooth, solver, &l, (&y, &a, &e), worst) {
             tried = Some(refit.unwrap_or((e, a, y)));
         }
     }
@@ -252,7 +252,7 @@ pub(super) fn flat_points(
             Some((m / a.min(b), Reset::Zero(j), drops))
         })
         .collect();
-    ordered(found)
+    order_by_key(found)
 }
 
 /// How far a curvature of magnitude `kappa` over a stretch of `length` bends it off its chord:
@@ -265,7 +265,7 @@ pub(super) fn sagitta(kappa: f64, length: f64) -> f64 {
 
 /// Shape moves (a [`Reset`] and the joints that go with it) ordered by their key, the smallest
 /// first.
-pub(super) fn ordered(mut found: Vec<(f64, Reset, Vec<usize>)>) -> Vec<(Reset, Vec<usize>)> {
+pub(super) fn order_by_key(mut found: Vec<(f64, Reset, Vec<usize>)>) -> Vec<(Reset, Vec<usize>)> {
     found.sort_by(|p, q| p.0.total_cmp(&q.0));
     found
         .into_iter()
@@ -302,7 +302,7 @@ pub(super) fn end_flips(
         .collect()
 }
 
-/// What a joint-removal try sets first (see [`removed`]).
+/// What a joint-removal try sets first (see [`remove_joints`]).
 #[derive(Clone, Copy, Debug)]
 pub(super) enum Reset {
     /// The joint becomes a zero joint (a flat point, see [`flat_points`]).
@@ -366,7 +366,7 @@ pub(super) fn bumps(
             Some((bend, Reset::Curvature(j, kappa), vec![j + 1, j - 1]))
         })
         .collect();
-    ordered(found)
+    order_by_key(found)
 }
 
 /// `e` with segment `j` taken out (its entries of every list), as the evaluation near a chain

@@ -16,7 +16,7 @@ use crate::chain::record::Chain;
 /// largest distance rather than cut, see [`MINIMAX_ROUNDS`]) holds, `Some` of that round's
 /// evaluation, assignment and unknowns. `None` where neither holds.
 #[allow(clippy::type_complexity)]
-pub(super) fn holding(
+pub(super) fn hold_tolerance(
     smooth: &SmoothInput,
     solver: &mut Solver,
     layout: &Layout,
@@ -44,13 +44,13 @@ pub(super) fn holds(smooth: &SmoothInput, e: &Evaluation) -> bool {
 }
 
 /// The part's answer from the solved chain of `x` that holds the tolerance: its joints
-/// removed where they can go ([`fewer_joints`]), then polished ([`polished`]). A chain that held
+/// removed where they can go ([`fewer_joints`]), then polished ([`polish`]). A chain that held
 /// only after its minimax rounds (`least_squares` false) is polished only where a removal
 /// changed it: its own least-squares fit is the one that missed. (A removal that held only after
 /// minimax rounds is polished: the least-squares solve from its minimax chain can find another
 /// minimum that holds; on the random sweep one more jittered case as planted, for a tenth more
 /// instructions on the fixture strokes than without.)
-pub(super) fn settled(
+pub(super) fn settle(
     smooth: &SmoothInput,
     solver: &mut Solver,
     (layout, x, assign, evaluation): (&Layout, &Params, &[Vec<usize>], &Evaluation),
@@ -63,11 +63,9 @@ pub(super) fn settled(
         evaluation: evaluation.clone(),
     };
     match fewer_joints(smooth, solver, layout, x, assign, evaluation) {
-        Some(s) => {
-            polished(smooth, solver, (&s.layout, &s.x, &s.assign, &s.evaluation)).unwrap_or(s)
-        }
+        Some(s) => polish(smooth, solver, (&s.layout, &s.x, &s.assign, &s.evaluation)).unwrap_or(s),
         None if least_squares => {
-            polished(smooth, solver, (layout, x, assign, evaluation)).unwrap_or_else(as_solved)
+            polish(smooth, solver, (layout, x, assign, evaluation)).unwrap_or_else(as_solved)
         }
         None => as_solved(),
     }
@@ -108,7 +106,7 @@ impl Solved {
 /// answer): the solve that found it stops as soon as a step gains little while every sample is
 /// within the tolerance ([`WITHIN_DECREASE`]), and the cuts, minimax rounds and removals that
 /// led to it aim at the tolerance, not at the lowest deviation.
-pub(super) fn polished(
+pub(super) fn polish(
     smooth: &SmoothInput,
     solver: &mut Solver,
     (layout, x, assign, evaluation): (&Layout, &Params, &[Vec<usize>], &Evaluation),
