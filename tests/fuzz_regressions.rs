@@ -164,3 +164,33 @@ fn hid_descriptor_long_item_usage_without_page() {
         Err(kansei::capture::hid::HidError::DescriptorInvalid { offset: 0, .. })
     ));
 }
+
+/// Pseudo-random inputs of the `fit_stroke` target's turning mode (head bytes from
+/// `TURNING_HEAD`: circles, loops, spirals, circles gone round past their start, on whole,
+/// quarter and fine pixel grids), through the same checks as a saved input: a deterministic
+/// sample of what `fuzz/run.sh 60 fit_stroke` explores, so every `cargo test` runs some.
+/// `KANSEI_TURNING_CASES=N` runs N of them instead (a longer search outside cargo-fuzz).
+#[test]
+fn turning_inputs_keep_the_guarantee() {
+    let cases = std::env::var("KANSEI_TURNING_CASES")
+        .ok()
+        .and_then(|n| n.parse().ok())
+        .unwrap_or(TURNING_CASES);
+    let mut rng = adversarial::SplitMix::new(0x6c6f_6f70);
+    for case in 0..cases {
+        let len = 2 + 2 * rng.int(10, 60) as usize;
+        let mut data = vec![adversarial::TURNING_HEAD + (rng.int(0, 15) as u8)];
+        // A steady turn with small changes, as a hand draws a loop.
+        let turn = rng.int(0, 15) as u8;
+        for _ in 0..len / 2 {
+            let wobble = rng.int(-1, 1);
+            data.push((i64::from(turn) + wobble).clamp(0, 15) as u8);
+            data.push(rng.int(0, 15) as u8);
+        }
+        let result = catch_unwind(AssertUnwindSafe(|| fit_stroke(&data)));
+        assert!(result.is_ok(), "turning case {case}: {data:02x?}");
+    }
+}
+
+/// Turning inputs [`turning_inputs_keep_the_guarantee`] tries by default (about 6 s).
+const TURNING_CASES: usize = 120;

@@ -484,6 +484,20 @@ pub fn stroke_from_bytes(data: &[u8]) -> Option<(Stroke, f64)> {
     let tolerance = [0.5, 0.25, 1.0, 0.1][usize::from((head / 3) % 4)];
     let mut p = Point::new(400.0, 300.0);
     let mut points = vec![p];
+    if head >= TURNING_HEAD {
+        // The pen's heading turns by the first byte of each pair and it moves by the second:
+        // repeated turns draw circles, loops, spirals and circles gone round past their start,
+        // rounded to the grid.
+        let (mut q, mut heading) = (p, 0.0_f64);
+        for pair in moves.chunks_exact(2).take(MAX_FUZZ_SAMPLES - 1) {
+            heading += f64::from(i16::from(pair[0] & 0x0f) - 8) * TURN_STEP;
+            let length = f64::from(1 + (pair[1] & 0x0f)) * TURNING_STEP_LENGTH;
+            q = Point::new(q.x + length * heading.cos(), q.y + length * heading.sin());
+            p = Point::new((q.x / grid).round() * grid, (q.y / grid).round() * grid);
+            points.push(p);
+        }
+        return Some((Stroke::from_points(points), tolerance));
+    }
     for pair in moves.chunks_exact(2).take(MAX_FUZZ_SAMPLES - 1) {
         let step = |b: u8| f64::from(i16::from(b & 0x0f) - 8) * grid;
         p = Point::new(p.x + step(pair[0]), p.y + step(pair[1]));
@@ -491,3 +505,15 @@ pub fn stroke_from_bytes(data: &[u8]) -> Option<(Stroke, f64)> {
     }
     Some((Stroke::from_points(points), tolerance))
 }
+
+/// Head bytes from this one on decode their moves as turns and steps ([`stroke_from_bytes`]):
+/// strokes that come back near themselves. (Every recorded regression input has a smaller head,
+/// so they decode as they did.)
+pub const TURNING_HEAD: u8 = 0xf0;
+
+/// Turn per unit of a turning move's first byte (radians): −8..7 units, up to a third of a
+/// radian a sample, so a few dozen samples close a circle.
+const TURN_STEP: f64 = 0.045;
+
+/// Step per unit of a turning move's second byte (px): 1..16 units.
+const TURNING_STEP_LENGTH: f64 = 1.5;
