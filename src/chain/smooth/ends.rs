@@ -48,7 +48,10 @@ pub(super) fn without_end_tail(segments: &[ChainSegment], cap: f64) -> Option<Ve
     {
         t -= 1;
     }
-    if t == n {
+    // A tail is the end of something: the segments kept must hold samples (a short piece whose
+    // every segment curls is not a tail; cut, it left one segment holding none of its samples
+    // and a record that measured none of them).
+    if t == n || segments[..t].iter().all(|s| s.params.is_none()) {
         return None;
     }
     let end = segments[n - 1].segment.end();
