@@ -4,7 +4,8 @@
 //! guess (cheap; used to correct sample parameters during fitting and gives an upper bound on the
 //! distance), and [`Pieces::distance`] finds the true distance to the whole curve by exact
 //! nearest-point search (kurbo's quintic root isolation) on every piece whose control-point box
-//! could hold a closer point than the local one.
+//! could hold a closer point than the local one; [`Pieces::distance_on_pass`] does the same on
+//! the sample's own pass of a curve that comes back near itself.
 
 use crate::geom::{ParamBez, ParamCurve, Point, Rect, Vec2, bounding_box};
 use kurbo::{ParamCurveArclen, ParamCurveNearest};
@@ -130,23 +131,7 @@ impl Pieces {
     /// [`Pieces::project_local`]): every piece whose control-point box lies closer than the
     /// current best is searched exactly.
     pub fn distance(&self, q: Point, near: Foot) -> Foot {
-        let mut best = near;
-        for (pb, b) in self.pieces.iter().zip(&self.boxes) {
-            let dx = (b.x0 - q.x).max(q.x - b.x1).max(0.0);
-            let dy = (b.y0 - q.y).max(q.y - b.y1).max(0.0);
-            if dx.hypot(dy) >= best.distance {
-                continue;
-            }
-            let n = pb.bez.nearest(q, NEAREST_ACCURACY);
-            let d = n.distance_sq.sqrt();
-            if d < best.distance {
-                best = Foot {
-                    u: pb.global(n.t),
-                    distance: d,
-                };
-            }
-        }
-        best
+        self.nearest_accepted(q, near, |_, _| true)
     }
 
     /// The true distance from `q` to its own pass of the chain, starting from a local foot point
@@ -158,8 +143,18 @@ impl Pieces {
     /// from one pass to the other runs far (round the loop) for a short way across, so that foot
     /// is not taken for the sample's own.
     pub fn distance_on_pass(&self, q: Point, near: Foot) -> Foot {
-        let mut best = near;
         let at_near = self.eval_derivs(near.u).0;
+        self.nearest_accepted(q, near, |u, foot| {
+            let across = at_near.distance(foot);
+            self.arclen_between(near.u, u) <= PASS_ARC_FACTOR * (across + near.distance)
+        })
+    }
+
+    /// The nearest point of the chain to `q` nearer than `near` that `accept` takes (its global
+    /// parameter and the point), searched exactly on every piece whose control-point box lies
+    /// closer than the best so far.
+    fn nearest_accepted(&self, q: Point, near: Foot, accept: impl Fn(f64, Point) -> bool) -> Foot {
+        let mut best = near;
         for (pb, b) in self.pieces.iter().zip(&self.boxes) {
             let dx = (b.x0 - q.x).max(q.x - b.x1).max(0.0);
             let dy = (b.y0 - q.y).max(q.y - b.y1).max(0.0);
@@ -172,8 +167,7 @@ impl Pieces {
                 continue;
             }
             let u = pb.global(n.t);
-            let across = at_near.distance(pb.bez.eval(n.t));
-            if self.arclen_between(near.u, u) <= PASS_ARC_FACTOR * (across + near.distance) {
+            if accept(u, pb.bez.eval(n.t)) {
                 best = Foot { u, distance: d };
             }
         }
@@ -251,5 +245,62 @@ mod tests {
         let exact = p.pieces()[1].bez.nearest(q, 1e-14).distance_sq.sqrt();
         assert!((global.distance - exact).abs() < 1e-12);
         assert!(global.u > 0.5);
+    }
+
+    /// A hairpin: out along y = 0, a tight turn, back along y = 1.
+    fn hairpin() -> Pieces {
+        let line = |a: (f64, f64), b: (f64, f64)| {
+            CubicBez::new(
+                a,
+                (a.0 + (b.0 - a.0) / 3.0, a.1 + (b.1 - a.1) / 3.0),
+                (a.0 + 2.0 * (b.0 - a.0) / 3.0, a.1 + 2.0 * (b.1 - a.1) / 3.0),
+                b,
+            )
+        };
+        let turn = CubicBez::new((10.0, 0.0), (10.7, 0.0), (10.7, 1.0), (10.0, 1.0));
+        Pieces::new(vec![
+            ParamBez {
+                bez: line((0.0, 0.0), (10.0, 0.0)),
+                u0: 0.0,
+                u1: 0.4,
+            },
+            ParamBez {
+                bez: turn,
+                u0: 0.4,
+                u1: 0.6,
+            },
+            ParamBez {
+                bez: line((10.0, 1.0), (0.0, 1.0)),
+                u0: 0.6,
+                u1: 1.0,
+            },
+        ])
+    }
+
+    /// A sample of the outward pass that lies nearer the return pass keeps its foot on its own
+    /// pass (the curve between the two feet runs round the turn, far longer than the way
+    /// across), where the whole-curve search takes the other; on a curve that passes by once
+    /// the two searches agree.
+    #[test]
+    fn a_foot_stays_on_its_own_pass() {
+        let p = hairpin();
+        let q = Point::new(2.0, 0.6);
+        let local = p.project_local(q, 0.05);
+        assert!(
+            local.u < 0.4 && (local.distance - 0.6).abs() < 1e-9,
+            "{local:?}"
+        );
+        let whole = p.distance(q, local);
+        assert!(
+            whole.u > 0.6 && (whole.distance - 0.4).abs() < 1e-9,
+            "{whole:?}"
+        );
+        let own = p.distance_on_pass(q, local);
+        assert_eq!(own, local);
+        // On a curve that passes by only once the two searches agree, a bad local start included.
+        let arch = arch();
+        let q = Point::new(4.1, 0.5);
+        let local = arch.project_local(q, 0.0);
+        assert_eq!(arch.distance_on_pass(q, local), arch.distance(q, local));
     }
 }
