@@ -11,6 +11,7 @@ use kansei::lac::LacSegment;
 use kansei::stroke::{Sample, Stroke, Units};
 
 use super::Rng;
+use super::adversarial::polyline_distance;
 
 /// The shape classes, in the order [`shapes`] draws them.
 pub const CLASSES: [&str; 8] = [
@@ -265,26 +266,20 @@ pub fn chain_points(chains: &[Chain], step: f64) -> Vec<(Point, f64)> {
     super::planted::dense(segments, step)
 }
 
-/// The distance from `q` to the polyline `line` (its nearest vertex's edges).
-fn to_polyline(line: &[(Point, f64)], q: Point) -> f64 {
-    line.windows(2)
-        .map(|w| {
-            let (a, b) = (w[0].0, w[1].0);
-            let ab = b - a;
-            let t = ((q - a).dot(ab) / ab.hypot2().max(f64::MIN_POSITIVE)).clamp(0.0, 1.0);
-            q.distance(a + ab * t)
-        })
-        .fold(f64::INFINITY, f64::min)
+/// The points of a dense polyline with curvatures.
+fn points(line: &[(Point, f64)]) -> Vec<Point> {
+    line.iter().map(|p| p.0).collect()
 }
 
 /// The largest distance from the samples of `stroke` to the shape: how far the drawing itself
 /// strays from the shape (a mouse's rounding, a tablet's noise), which the chain, within the
 /// tolerance of the samples, may add to its own distance from the shape.
 pub fn sample_error(stroke: &kansei::stroke::Stroke, truth: &[(Point, f64)]) -> f64 {
+    let truth = points(truth);
     stroke
         .samples
         .iter()
-        .map(|s| to_polyline(truth, s.point()))
+        .map(|s| polyline_distance(s.point(), &truth))
         .fold(0.0, f64::max)
 }
 
@@ -292,14 +287,15 @@ pub fn sample_error(stroke: &kansei::stroke::Stroke, truth: &[(Point, f64)]) -> 
 pub fn two_way_distance(chains: &[Chain], truth: &[(Point, f64)]) -> (f64, f64) {
     let length: f64 = truth.windows(2).map(|w| w[0].0.distance(w[1].0)).sum();
     let fitted = chain_points(chains, length / 3000.0);
+    let (truth_line, fitted_line) = (points(truth), points(&fitted));
     let there = fitted
         .iter()
-        .map(|p| to_polyline(truth, p.0))
+        .map(|p| polyline_distance(p.0, &truth_line))
         .fold(0.0, f64::max);
     let back = truth
         .iter()
         .step_by(2)
-        .map(|p| to_polyline(&fitted, p.0))
+        .map(|p| polyline_distance(p.0, &fitted_line))
         .fold(0.0, f64::max);
     (there, back)
 }
