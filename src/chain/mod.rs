@@ -71,7 +71,7 @@ pub fn fit_chain(
     }
     // The G1 chain that starts a smooth fit is refined less (`STARTING_CONVERGED_RMS`); where it
     // ends beyond the tolerance, the G1 chain refined to convergence may not (a jiggle of the
-    // synthetic fixtures: 1.30 against 0.41 of a 0.71 tolerance, eight segments against five),
+    // synthetic fixtures, see docs/performance-history.md, chain constants),
     // and a smooth fit from a chain beyond the tolerance starts where the guarantee is already
     // lost. The better of the two starts it.
     let chain = if chain.within_tolerance {

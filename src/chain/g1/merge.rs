@@ -13,17 +13,15 @@ use crate::lac::{AlphaSearch, Deviation, LacError, LacSegment, SpanFitOptions, w
 /// in α predicts that no α within two cells brings every sample within this many tolerances
 /// (`SpanFitOptions::unreachable_above`): the merged segment must be within one, and the model's
 /// error near the guess (a few percent of the distances there, which are at most
-/// [`MERGE_ABANDON_FACTOR`] tolerances) is well inside the margin. Over the fixture strokes up
-/// to 600 samples at three tolerances: 2.5 % fewer instructions on the median stroke, 2 218
-/// segments against 2 215 and the same rms distance (1.25: 4 %, but 2 225 segments).
+/// [`MERGE_ABANDON_FACTOR`] tolerances) is well inside the margin. It saves work for about the
+/// same segments and fit; measured in `docs/performance-history.md` (chain constants).
 const MERGE_UNREACHABLE_FACTOR: f64 = 1.5;
 
 /// A merge's α search gives up when the merged segment at its starting α (the parts' α,
 /// weighted by their samples) misses a sample by more than this many tolerances: the search
 /// moves α by little from there, and a segment that far off does not come within the
-/// tolerance. Over the fixture strokes up to 600 samples: 8 % fewer instructions in all and on
-/// the median stroke, 737 segments against 736 and the same rms distance (0.236 of the
-/// tolerance against 0.237); 2 saves 2 % more for 6 more segments; 4 saves 6 % for none.
+/// tolerance. It saves work for about the same segments and fit; measured in
+/// `docs/performance-history.md` (chain constants).
 const MERGE_ABANDON_FACTOR: f64 = 3.0;
 
 /// Whether a merge may drop a joint of this kind (curvature extrema, inflections and
@@ -38,8 +36,8 @@ fn removable(kind: JointKind) -> bool {
 /// How far (in tolerances) a run's merged segment between its fixed outer joints may miss a
 /// sample for [`Fitter::merge_runs_refined`] to refine it: turning its end tangents brings a
 /// segment several tolerances off within (the Prius line's: 4 tolerances off); one farther off is
-/// another curve, and each try costs a refinement of the chain. Over the fixture strokes at the
-/// default tolerance 30 merges as many runs as 100 (730 segments), 10 six fewer, 5 nine fewer.
+/// another curve, and each try costs a refinement of the chain. 30 merges as many runs as a
+/// looser factor; measured in `docs/performance-history.md` (chain constants).
 const REFINED_MERGE_FACTOR: f64 = 30.0;
 
 /// Longest run of segments [`Fitter::merge_fewest`] tries to replace by one: past eight, a run

@@ -134,11 +134,9 @@ pub(crate) fn fit_g1(
 }
 
 /// How far from a changed segment a later refinement still moves the chain (in segments): 1,
-/// the neighbours, which share a joint with it. Over the fixture strokes up to 600 samples,
-/// against refining the whole chain every time: 16 % fewer instructions on the median stroke
-/// (15.5 M against 18.3 M), 5 % fewer in all, 736 segments against 731 and the rms distance
-/// 0.237 of the tolerance against 0.235. 0 saves 10 % in all but lifts the rms distance to 0.244;
-/// 2 gives back most of the saving for no better fit.
+/// the neighbours, which share a joint with it. Against refining the whole chain every time it
+/// trades a little fit quality for less work; measured in
+/// `docs/performance-history.md` (chain constants).
 const NEIGHBOUR_RING: usize = 1;
 
 /// The segments a refinement may move after `settled` (the segments the last refinement ended
@@ -447,9 +445,8 @@ impl<'a> Fitter<'a> {
     /// most one sample (60 % over the fixture strokes up to 600 samples): their extrema and
     /// inflections are the noise's, which [`Fitter::merge`] would remove one α search at a time,
     /// and where one is real the run misses the tolerance and [`Fitter::subdivide`] cuts it
-    /// again. Over those strokes this takes 12 % fewer instructions in all and ends with fewer
-    /// segments (731 against 766) and a lower rms distance (0.235 of the tolerance against
-    /// 0.244).
+    /// again. This takes less work and ends with fewer segments and a lower rms distance;
+    /// measured in `docs/performance-history.md` (chain constants).
     fn runs(&self) -> Vec<std::ops::Range<usize>> {
         let spans = &self.input.spans.spans;
         let mergeable =

@@ -61,10 +61,8 @@ pub(super) const ANGLE_STEP: f64 = 1e-7;
 /// Finite-difference step on α.
 pub(super) const ALPHA_STEP: f64 = 1e-6;
 /// Initial damping relative to the diagonal of JᵀJ. The first step from the α search's chain
-/// is rarely in the Gauss–Newton regime (α moves far along the directions the data barely see):
-/// over the fixture strokes up to 600 samples, 1e-2 takes 1.5 % fewer instructions on the median
-/// stroke than 1e-3 for 13 fewer segments in 778 and the same rms distance (1e-1: 2 % fewer
-/// again, but a 1 % higher rms distance).
+/// is rarely in the Gauss–Newton regime (α moves far along the directions the data barely see);
+/// measured in `docs/performance-history.md` (chain constants).
 pub(super) const LAMBDA_START: f64 = 1e-2;
 /// Damping beyond which no step can help any more (the step has shrunk to rounding).
 pub(super) const LAMBDA_MAX: f64 = 1e12;
@@ -90,9 +88,8 @@ pub(super) const DAMPING: DampingOptions = DampingOptions {
 pub(super) const MAX_TRIES: usize = 8;
 /// Relative cost decrease below which the iteration has converged: a tenth of a percent of the
 /// sum of squared distances moves the rms distance by 0.05 %, invisible against any tolerance;
-/// iterating on costs time for nothing. Over the fixture strokes up to 600 samples 1e-3 takes
-/// 12 % fewer instructions than 1e-4 for 2 more segments in 1 170, and the planted-α tests hold
-/// their 0.05.
+/// iterating on costs time for nothing. Measured in
+/// `docs/performance-history.md` (chain constants).
 pub(super) const CONVERGED: f64 = 1e-3;
 /// An iteration that lowers the rms sample distance by less than this share of the tolerance has
 /// converged too: one percent of the tolerance is far below the pen's noise and invisible against
@@ -100,11 +97,8 @@ pub(super) const CONVERGED: f64 = 1e-3;
 /// gain another few percent of the cost in tens of iterations, each a full chain evaluation).
 pub(crate) const CONVERGED_RMS: f64 = 0.01;
 /// [`CONVERGED_RMS`] of a G1 chain that starts a smooth (G2, C3) fit, which moves every joint
-/// again: refining it further costs time the smooth fit spends anyway. Over the fixture strokes
-/// up to 600 samples in g2, against 0.01 (instructions counted, median per stroke): 27.8 M
-/// against 34.4 M, the smooth chains of the nine fixture files 799 segments against 805 and
-/// their pooled rms distance 0.280 tolerances against 0.290; 0.1 gave 25.8 M but 805 segments
-/// and one bending at 139 /px, 0.2 19.0 M and 819 segments.
+/// again: refining it further costs time the smooth fit spends anyway. Measured in
+/// `docs/performance-history.md` (chain constants).
 pub(crate) const STARTING_CONVERGED_RMS: f64 = 0.05;
 /// Margin (radians of chord angle, see [`drawable_margin`]) a step keeps from a drawable-region
 /// edge it is held away from: a hundred times the angle probe, so that the next Jacobian's probes
@@ -120,8 +114,8 @@ pub(super) const MARGIN_POSITION_STEP: f64 = 1e-7;
 /// samples nearby can leave through a loop that still passes by them, and a step did so (a
 /// fixed-α chain moved a joint 1.8e12 away from a 700-pixel stroke through two segments of
 /// length 9e13 and 1.8e12 whose loops met samples 50 and 51, and the export of such a segment
-/// never ended). Over the fixture strokes up to 600 samples it turns down a step or two (the
-/// mean rms distance moves from 0.2328 to 0.2329 of the tolerance).
+/// never ended). On ordinary strokes it rarely turns a step down; measured in
+/// `docs/performance-history.md` (chain constants).
 pub(super) const MAX_LENGTH_FACTOR: f64 = 10.0;
 
 /// Farthest a refinement step may take a joint from the B-spline near the parameter it was made

@@ -18,9 +18,9 @@ use crate::lac::LacSegment;
 /// samples' noise, can leave such a tangle: a planted chain on whole pixels ended in six arcs
 /// of 0.1–0.9 px bending up to 18 /px over its last four samples, one drawn with tablet noise
 /// in two bending to 65 and 31.6 /mm over its last three; each such joint became a corner of
-/// the smooth chain and the segments after it stayed. Over the random planted sweep the tablet
-/// cases 178 → 179 as planted, the fixture files' segments as they were (0.5 % more
-/// instructions). `None` where there is no tail, or the segment cannot be extended.
+/// the smooth chain and the segments after it stayed. Measured in
+/// `docs/performance-history.md` (chain constants).
+/// `None` where there is no tail, or the segment cannot be extended.
 pub(super) fn without_end_tail(segments: &[ChainSegment], cap: f64) -> Option<Vec<ChainSegment>> {
     let n = segments.len();
     if segments.last()?.end != JointKind::End {

@@ -16,24 +16,17 @@ use nalgebra::DVector;
 pub(super) const MAX_ITERATIONS: usize = 40;
 
 /// The solve stops when an accepted step lowers the sum of squared distances by less than this
-/// fraction (or the model predicts less): the distances then move by half a percent. On the
-/// fixture strokes in g2 (with the consistent Jacobian of [`shooting_jacobian`]): 1e-3 gave 906
-/// segments in 1.52 s, 3e-3 899 in 1.33 s, 1e-2 910 in 1.24 s, all 261 of 263 curves G2 with
-/// a median rms distance of 0.26 tolerances (a Jacobian differenced against the distance
-/// search's own foot points, at 1e-3: 926 segments, 0.28).
+/// fraction (or the model predicts less): the distances then move by half a percent. Tighter
+/// values cost time for no better fit (with the consistent Jacobian of [`shooting_jacobian`]);
+/// measured in `docs/performance-history.md` (chain constants).
 pub(super) const RELATIVE_DECREASE: f64 = 1e-2;
 
 /// The solve also stops when an accepted step lowers the sum of squared distances by less than
 /// this fraction while every sample is within the tolerance: the chain then holds, and what the
 /// steps left would bring is the polish's to bring (it carries the part's final chain to its
 /// least-squares minimum, see [`POLISH_DECREASE`]); until then the chain only starts the joint
-/// removals. Over the fixture strokes up to 600 samples (g2, each at its noise floor) and the
-/// random planted sweep (`planted_sweep 200 1`, as planted on pixels, jitter, tablet): 0.05
-/// gave 621 segments for 4 750 M instructions, 169 / 127 / 181; 0.15 619, 4 691 M, 170 / 127 /
-/// 181; 0.3 611, 4 687 M, 170 / 127 / 181 (the nine fixture files 740 → 731 segments); 0.5 612,
-/// 4 692 M, the same; 1.0 609, 4 668 M, 170 / 126 / 181 (on sweep seeds 2 and 3, 0.05 → 0.3 moved
-/// by a case or two either way: 155 / 132 / 174 → 154 / 131 / 175, 169 / 128 / 180 → 167 / 127 /
-/// 180). A less converged start loses more
+/// removals. Measured in `docs/performance-history.md` (chain constants).
+/// A less converged start loses more
 /// joints in the removals (as we read it: the steps after the chain holds fit the same joints
 /// closer to the samples' noise, which a removal must then undo).
 pub(super) const WITHIN_DECREASE: f64 = 0.3;
@@ -74,12 +67,10 @@ pub(super) fn polish_stop(cost: f64, e: &Evaluation, free: usize) -> f64 {
 /// polish that ended within the tolerance had kept its samples within 0.87 lengths on every
 /// chain it evaluated, and the six that reached 1.0 to 187 lengths all ended beyond the
 /// tolerance and were thrown away, after up to 20 iterations on parts of up to 410 samples.
-/// Given up at such a step (no answer), they left every fixture fit byte for byte as it was
-/// for 2.6 % fewer instructions over those strokes (4 319 → 4 208 M); ended at the chain
-/// before it, which is then the answer where it holds (as below, where a polish ends beyond
-/// the tolerance), 4 215 M, the mean rms distance 0.2971 → 0.2965 tolerances, the nine fixture
-/// files' pooled rms 0.3621 → 0.3608 with their 731 segments. Refusing such a step instead,
-/// like one that raises the cost, keeps those polishes going: no fewer instructions (4 324 M).
+/// The polish ends at the chain before such a step, which is then the answer where it holds (as
+/// below, where a polish ends beyond the tolerance): this saves work and fits as well. Refusing
+/// such a step instead, like one that raises the cost, keeps those polishes going for no saving;
+/// measured in `docs/performance-history.md` (chain constants).
 pub(super) const EXTENSION_REACH: f64 = 1.0;
 
 /// Whether a sample of `e` lies on a segment's extension more than [`EXTENSION_REACH`] of the
@@ -94,15 +85,9 @@ pub(super) fn beyond_reach(e: &Evaluation) -> bool {
 
 /// Marquardt's damping starts at this multiple of the normal matrix's diagonal. Most solves
 /// start near an answer (a cut chain, a minimax round, a second start), where a bolder first step
-/// is refused: on the nine fixture files in g2, 1e-3 took 1.9 trials per Levenberg–Marquardt
-/// iteration and 1.14 s for 819 segments, 3e-2 1.03 s for 824, 1e-1 1.04 s for 829, 3e-1 1.20 s
-/// for 833. Scanned again with α in the log scale next to inflections: 1e-2 / 3e-2 / 1e-1 /
-/// 3e-1 / 1 gave 798 / 803 / 783 / 794 / 813 segments, but 1e-1 took a quarter longer on the
-/// median fixture stroke (4.3 ms against 3.4): kept at 3e-2. Scanned once more with the G1
-/// chain refined as a start only (see `refine::STARTING_CONVERGED_RMS`), counting instructions
-/// over the fixture strokes up to 600 samples (median per stroke, sum) and the nine files'
-/// segments: 1e-3 25.2 M, 3 730 M, 797; 3e-3 28.9 M, 3 499 M, 792; 5e-3 25.6 M, 3 320 M, 799;
-/// 1e-2 25.3 M, 3 366 M, 795; 3e-2 27.8 M, 3 476 M, 799: 1e-2.
+/// is refused; 1e-2 took the least work for about the same segments (scanned with the G1 chain
+/// refined as a start only, see `refine::STARTING_CONVERGED_RMS`); measured in
+/// `docs/performance-history.md` (chain constants).
 pub(super) const INITIAL_DAMPING: f64 = 1e-2;
 
 /// Damping after a refused step is multiplied by a factor that starts at this and doubles with
@@ -135,9 +120,9 @@ pub(super) const DAMPING: DampingOptions = DampingOptions {
 pub(super) const DIAGONAL_FLOOR: f64 = 1e-4;
 
 /// A fresh constraint Jacobian is reused for the next projection step while the last step cut
-/// the violation at least by this factor (Newton converging, the Jacobian still good enough).
-/// On the fixture strokes in g2: a fresh one every step 1.13 s, reuse below 0.03 1.10 s, 0.1
-/// 0.99 s, 0.3 1.02 s (923 segments against 910–915: slower steps leave worse trials).
+/// the violation at least by this factor (Newton converging, the Jacobian still good enough):
+/// slower steps leave worse trials. Measured in
+/// `docs/performance-history.md` (chain constants).
 pub(super) const FRESH_REUSE_RATE: f64 = 0.1;
 
 /// Newton steps projecting a point onto the constraints. From the starting chain (the G1
@@ -443,13 +428,8 @@ pub(super) fn levenberg_marquardt(
     // A polish carries a chain within the tolerance towards its least-squares minimum, which
     // may lie beyond it; the answer must hold it. Where the polish ends beyond the tolerance,
     // its last chain within it is its answer rather than none (which left the part's chain
-    // unpolished): on the random planted sweep (`planted_sweep 200`, seeds 1–3) 170 / 127 /
-    // 181, 154 / 131 / 175, 167 / 127 / 180 as planted → 170 / 128 / 181, 154 / 131 / 175,
-    // 167 / 128 / 180, some failing cases' rms 10–20 % lower (a tablet case 0.358 → 0.285
-    // tolerances); the fixture files' segments as they were (731), their pooled rms 0.3621 →
-    // 0.3620 tolerances (with the polishes given up at [`EXTENSION_REACH`]; ended there instead,
-    // 0.3608), the instructions +0.05 %. Refusing the step that leaves instead stopped
-    // polishes that come back within it (the sweep lost 11 cases).
+    // unpolished). Refusing the step that leaves instead stopped polishes that come back within
+    // it. Measured in docs/performance-history.md (chain constants).
     if let Some((wx, we, wa)) = last_within
         && largest_distance(e) > solver.tolerance
     {

@@ -95,10 +95,9 @@
 //! curl beyond the bound they are turned as the G1 chain's piece ends are (`soften_isolated`). One
 //! that still curls beyond the bound at a free end after those turns hooks there, and says so: it
 //! becomes the line between its ends where that holds its samples, else a line to the sample next
-//! to the curl and a segment on from it, meeting at a new corner (`src/chain/smooth/unhook.rs`). On the
-//! nine recorded fixture files 28 segments bent beyond the bound (4 tighter than half a tolerance
-//! in radius) before the hooks were cut, none now, for 26 segments more (820 → 846, most of them
-//! lines of a pixel or three at a painting stroke's reversal). A least-squares chain that misses
+//! to the curl and a segment on from it, meeting at a new corner (`src/chain/smooth/unhook.rs`).
+//! This removes the tight bends for a few more short segments (measured in
+//! `docs/performance-history.md`, chain constants). A least-squares chain that misses
 //! the tolerance by a little is first refitted towards the minimax fit of the same segments
 //! (Lawson's reweighting, a few rounds). When the solved chain still leaves a sample farther than
 //! the tolerance from its own segment, every segment that misses is cut at its middle (a new
@@ -180,7 +179,8 @@ pub const MAX_EXTRA_TURNING: f64 = std::f64::consts::PI;
 /// the segments; the limit bounds the cut rounds' work on a part the smooth fit
 /// cannot hold. At 40 a long part of the scribble fixture (95 samples that turn fast, 29 G1
 /// segments) stayed G1, its cut rounds passing 40 on the way; at 60 it was G2 with 54, every
-/// fixture curve G2 (the nine files 0.43 → 0.49 s), and the Prius line at 0.1 mm kept its 35.
+/// fixture curve G2 (its timings are in `docs/performance-history.md`, chain constants), and the
+/// Prius line at 0.1 mm kept its 35.
 /// Since the exact series next to curvature zeros (`lac::deviation`) that part takes 59, one
 /// under 60: the limit is 80, a margin that changes no fixture output and no instruction count
 /// over the fixture strokes up to 600 samples (a part that fails costs more rounds before it
@@ -267,11 +267,8 @@ pub const MAX_TAIL_SAMPLES: usize = unhook::MAX_HOOK_SAMPLES + 2;
 /// smooth fit's removal of joints it can do without); the rest of the part stays, and so do the
 /// curvatures of the joints at the window's ends: a try costs a few segments' solve, not the
 /// whole part's (up to 54 segments on the scribble). The polish after the removals solves the
-/// whole part again. Over the fixture strokes up to 600 samples, against whole-part tries (650
-/// segments, 5 389 M instructions): 1 gave 651 segments for 4 569 M, 2 650 for 4 766 M, 3 660;
-/// a whole-part try after a local miss (1 or 2) 648 for 5 629 M or 5 183 M (of 33 tries in
-/// parts longer than the window, 18 held locally, 3 more as whole parts, 12 neither). The
-/// random planted sweep is as it was.
+/// whole part again. Against whole-part tries 2 keeps the segments for less work; measured in
+/// `docs/performance-history.md` (chain constants).
 pub const REMOVAL_REACH: usize = 2;
 
 /// The chain `chain` refitted with the continuity of `smooth.continuity` (see the module

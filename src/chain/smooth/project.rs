@@ -19,10 +19,9 @@ use nalgebra::DVector;
 /// throughout (a chord method: a damped step away, it converges in two or three steps without
 /// differencing the chain again; the trials of one iteration share the factor). Where it does
 /// not converge, the fit projects the trial again without
-/// `chord` (fresh Jacobians, a construction per unknown each) before refusing it: on the nine
-/// recorded fixture files in g2 that gives 803 segments against 809 in the same time (with α in
-/// the log scale next to inflections, see `Layout::log_alpha`; before it, fresh projections
-/// took a third longer for more segments, 915 against 896, and trials were refused at once).
+/// `chord` (fresh Jacobians, a construction per unknown each) before refusing it: that gives
+/// fewer segments in about the same time; measured in
+/// `docs/performance-history.md` (chain constants).
 pub(super) fn project(
     form: Form,
     solver: &Solver,

@@ -214,10 +214,8 @@ pub(super) fn remove_joints(
 /// tolerance the samples show the curvature. Ordered by the curvature at j relative to its
 /// neighbours', the nearest to zero first.
 ///
-/// Measured over the fixture strokes up to 600 samples and the nine files (g2): 650 → 649 and
-/// 780 → 779 segments for 3 % more instructions (4 766 → 4 906 M); the random planted sweep
-/// 168 → 169 of 200 on whole pixels, the rest as it was. Also trying each neighbour alone: 776
-/// segments on the nine files for 9 % more; without the noise test, 25 % more.
+/// It trades a little more work for fewer segments; measured in
+/// `docs/performance-history.md` (chain constants).
 pub(super) fn flat_points(
     layout: &Layout,
     x: &Params,
@@ -331,11 +329,8 @@ impl Reset {
 /// largest curvature m over its two segments bends them by m·L²/8 off their chord, and where
 /// that exceeds the tolerance the samples show it. Ordered by that bend, the smallest first.
 ///
-/// Measured with the flat points (g2, `REPS=1 FLOOR=1 valgrind --tool=callgrind
-/// target/release/examples/fit_fixture_strokes`): the fixture strokes up to 600 samples 649 →
-/// 638 segments for 2 % more instructions (4 906 → 5 013 M), the nine files 779 → 759, at the
-/// unit's tolerance 1 223 → 1 123; that planted chain 7 → 5 segments, the sweep's passes as they
-/// were.
+/// It trades a little more work for fewer segments; measured in
+/// `docs/performance-history.md` (chain constants).
 pub(super) fn bumps(
     layout: &Layout,
     x: &Params,

@@ -48,8 +48,7 @@ pub(super) fn holds(smooth: &SmoothInput, e: &Evaluation) -> bool {
 /// only after its minimax rounds (`least_squares` false) is polished only where a removal
 /// changed it: its own least-squares fit is the one that missed. (A removal that held only after
 /// minimax rounds is polished: the least-squares solve from its minimax chain can find another
-/// minimum that holds; on the random sweep one more jittered case as planted, for a tenth more
-/// instructions on the fixture strokes than without.)
+/// minimum that holds; measured in `docs/performance-history.md` (chain constants).)
 pub(super) fn settle(
     smooth: &SmoothInput,
     solver: &mut Solver,
