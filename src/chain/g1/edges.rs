@@ -5,7 +5,7 @@
 use crate::chain::g1::refine::{
     ALPHA_STEP, ANGLE_STEP, EDGE_MARGIN, MARGIN_POSITION_STEP, Unknown,
 };
-use crate::chain::g1::{Joint, State};
+use crate::chain::g1::state::{Joint, State};
 use crate::chain::solve::band::BandCholesky;
 use crate::lac::yoshida_saito::{edge_margins, mirror};
 

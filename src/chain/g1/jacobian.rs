@@ -4,9 +4,10 @@
 #[cfg(test)]
 use super::refine::{add, step_of, touched};
 
+use crate::chain::g1::refine::RefineOptions;
 use crate::chain::g1::refine::{ALPHA_STEP, ANGLE_STEP, Unknown};
 use crate::chain::g1::state::{Evaluated, model_at_feet, model_at_own_feet};
-use crate::chain::g1::{Joint, RefineOptions, State};
+use crate::chain::g1::state::{Joint, State};
 use crate::geom::Vec2;
 use crate::lac::sensitivity::{Sensitivity, sensitivities};
 

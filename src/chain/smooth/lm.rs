@@ -114,9 +114,8 @@ pub(super) const DAMPING: DampingOptions = DampingOptions {
 /// before damping: an unknown the samples barely see (α of a near arc, the curvature at a
 /// joint of a near line) is then held by the damping instead of moving freely inside the
 /// constraints' null space, where its steps are as long as the linearisation allows and their
-/// projections fail. Scanned over the fixture strokes in g2: 1e-9 left 260 of 263 curves G2 with
-/// 1 019 segments in 5.5 s; 1e-5 … 1e-3 give 261 with 915–932 segments in 3.3–4.2 s (fewer
-/// cuts); 1e-2 and above hold the unknowns too tightly (260 curves).
+/// projections fail; a floor far above it holds the unknowns too tightly. Measured in
+/// `docs/performance-history.md` (chain constants).
 pub(super) const DIAGONAL_FLOOR: f64 = 1e-4;
 
 /// A fresh constraint Jacobian is reused for the next projection step while the last step cut
@@ -128,7 +127,7 @@ pub(super) const FRESH_REUSE_RATE: f64 = 0.1;
 /// Newton steps projecting a point onto the constraints. From the starting chain (the G1
 /// chain with one curvature per joint) the steps converge linearly, a factor of 3 to 20 per
 /// step (the bounds clamp some of them): 30 reach the constraints from a violation of the
-/// order of the chain's extent (6 left 71 of 254 fixture curves short of them).
+/// order of the chain's extent. Measured in `docs/performance-history.md` (chain constants).
 pub(super) const PROJECTION_STEPS: usize = 30;
 
 /// Chord steps projecting a Levenberg–Marquardt trial back onto the constraints (see

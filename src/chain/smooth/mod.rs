@@ -14,7 +14,7 @@
 //!   construction too; the only position constraint left is the end point Pₑ. There are
 //!   1 + (n + 1) + 2n unknowns, one per interior joint fewer than a G1 chain's, as G2 requires.
 //!   But every joint turns the rest of the chain: a parameter near the start swings the end,
-//!   and the fit crawls (a 200 px spring drifted 30 px from its samples).
+//!   and the fit crawls: the chain drifts from its samples before it converges.
 //! * *shooting*: every segment has its own start pose (Pₖ, θₖ), and the joints' positions and
 //!   tangents are equality constraints (three per joint, two for Pₑ). A parameter moves one
 //!   segment, two for a joint's curvature: as well conditioned on fifty segments as on two.
@@ -152,8 +152,8 @@ pub use crate::chain::measure::MIN_RADIUS_TOLERANCES;
 /// curvature at a joint is at most this over the piece's median sample spacing. Beyond a quarter
 /// turn between two samples they cannot tell a tight curve from a corner; the G1 chain's needles
 /// (κ = 11.8 /px on a spring sampled every 5 px: 59 rad per sample) are what the bound removes,
-/// and a G1 joint beyond it becomes a corner. On the fixture strokes 1 rad gave 162 of 254
-/// curves G2 (109 such corners), π/2 gives 185 (97), 3 rad 202 (71).
+/// and a G1 joint beyond it becomes a corner. Measured in `docs/performance-history.md` (chain
+/// constants).
 pub const MAX_TURN_PER_SAMPLE: f64 = std::f64::consts::FRAC_PI_2;
 
 /// Largest radius of curvature at a joint, in extents of the piece: flatter than that is a
@@ -189,7 +189,7 @@ pub const MAX_SEGMENTS: usize = 80;
 
 /// Rounds of cuts in a row that do not bring the worst sample nearer before the smooth fit of
 /// a part gives up. A round's cuts can move the worst sample elsewhere before the next round
-/// resolves it: on the fixture strokes 1 gave 157 of 254 curves G2 in 12 s, 2 gives 162 in 16 s.
+/// resolves it. Measured in `docs/performance-history.md` (chain constants).
 pub const STALLED_ROUNDS: usize = 2;
 
 /// Rounds of cutting (every segment that misses the tolerance, at its middle) before the
