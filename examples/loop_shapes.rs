@@ -12,7 +12,7 @@
 #[path = "../tests/common/mod.rs"]
 mod common;
 
-use common::loops::{CLASSES, profile_error, sample_error, shapes, two_way_distance};
+use common::loops::{CLASSES, profile_error, sample_error, shapes, truth_for, two_way_distance};
 use kansei::chain::Continuity;
 use kansei::pipeline::{PipelineOptions, StrokeOutcome, fit_with_noise};
 
@@ -37,12 +37,13 @@ fn main() {
         }
     }
     println!(
-        "| class | strokes | segments median / max | chain↔shape beyond the samples' error (tol) max | profile error median | G1 | outside tol | several pieces |"
+        "| class | strokes | segments median / max | chain↔shape beyond the samples' error (tol) max | profile error median | G1 | outside tol | several pieces | closed (of meant) |"
     );
-    println!("|---|---|---|---|---|---|---|---|");
+    println!("|---|---|---|---|---|---|---|---|---|");
     for class in CLASSES {
         let (mut segs, mut dist, mut prof) = (Vec::new(), Vec::new(), Vec::new());
         let (mut g1, mut outside, mut pieces, mut n) = (0, 0, 0, 0);
+        let (mut closed, mut meant) = (0, 0);
         for shape in all.iter().filter(|s| s.class == class) {
             n += 1;
             let StrokeOutcome::Curves(curves) =
@@ -52,6 +53,10 @@ fn main() {
                 continue;
             };
             let tolerance = curves[0].tolerance;
+            meant += usize::from(shape.closed);
+            let closed_fit = curves.iter().any(|c| c.closure.is_some());
+            closed += usize::from(closed_fit);
+            let truth = truth_for(shape, closed_fit);
             let chains: Vec<_> = curves.into_iter().filter_map(|c| c.chain).collect();
             if chains.len() > 1 {
                 pieces += 1;
@@ -62,11 +67,11 @@ fn main() {
                 .count();
             outside += chains.iter().filter(|c| !c.within_tolerance).count();
             segs.push(chains.iter().map(|c| c.segments.len()).sum::<usize>() as f64);
-            let (there, back) = two_way_distance(&chains, &shape.truth);
+            let (there, back) = two_way_distance(&chains, &truth);
             // Beyond what the samples' own error from the shape allows (see `sample_error`).
-            let drawn = sample_error(&shape.stroke, &shape.truth);
+            let drawn = sample_error(&shape.stroke, &truth);
             dist.push((there.max(back) - drawn).max(0.0) / tolerance);
-            prof.push(profile_error(&chains, &shape.truth));
+            prof.push(profile_error(&chains, &truth));
             if std::env::var("VERBOSE").is_ok() {
                 println!(
                     "  {} {} samples: {} segments, {:.2}/{:.2} tol, profile {:.1} %",
@@ -80,7 +85,7 @@ fn main() {
             }
         }
         println!(
-            "| {class} | {n} | {} / {} | {:.2} | {:.1} % | {g1} | {outside} | {pieces} |",
+            "| {class} | {n} | {} / {} | {:.2} | {:.1} % | {g1} | {outside} | {pieces} | {closed} ({meant}) |",
             median(segs.clone()),
             segs.iter().copied().fold(0.0, f64::max),
             dist.iter().copied().fold(0.0, f64::max),

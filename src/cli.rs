@@ -145,6 +145,15 @@ pub struct FitSettings {
     /// smooth fit cannot hold within the tolerance stays g1) or c3 (and dκ/ds).
     #[arg(long, default_value = "g2")]
     pub continuity: crate::chain::Continuity,
+    /// Strokes that come back to their start: auto (fitted as one closed curve, its seam as
+    /// continuous as its other joints; see docs/pipeline.md) or never (fitted open).
+    #[arg(long, default_value = "auto", value_parser = parse_close)]
+    pub close: crate::closure::Close,
+}
+
+/// Parses `--close`.
+fn parse_close(text: &str) -> Result<crate::closure::Close, String> {
+    text.parse()
 }
 
 /// Parses `WIDTHxHEIGHT` (or `WIDTH×HEIGHT`) into a pixel size; the render checks the range.
@@ -174,6 +183,7 @@ impl FitSettings {
             tolerance: self.tolerance,
             corner_angle: self.corner_angle,
             keep_hooks: self.keep_hooks,
+            close: self.close == crate::closure::Close::Auto,
             ..PipelineOptions::default()
         };
         options.chain.continuity = self.continuity;

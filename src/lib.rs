@@ -4,7 +4,9 @@
 //! 1. [`stroke`]: samples (x, y, time, pressure, tilt), read from `kansei-stroke` JSON or, through
 //!    [`capture`], from HID recordings (decoded from the device's report descriptor), evemu and
 //!    InkML.
-//! 2. [`prepare`]: duplicates merged, the pen's dwell and hooks dropped, the stroke cut at corners.
+//! 2. [`prepare`]: duplicates merged, the pen's dwell and hooks dropped, the stroke cut at corners;
+//!    [`closure`]: a stroke that comes back to its start is fitted as one closed curve (its
+//!    overshoot or second round folded onto the loop, its seam as smooth as its joints).
 //! 3. [`bspline`]: least-squares cubic B-spline, segments added until every sample is within the
 //!    tolerance of the curve, then faired.
 //! 4. [`split`]: Bézier pieces split at inflections and curvature extrema into spans of
@@ -43,6 +45,7 @@ pub mod bspline;
 pub mod capture;
 pub mod chain;
 pub mod cli;
+pub mod closure;
 pub mod export;
 pub mod geom;
 pub mod io;

@@ -8,7 +8,10 @@
 //! [`StrokeFailure`] naming the stroke and why; one stroke's failure never costs the others.
 
 use crate::bspline::{BSplineFit, FitError, FitOptions, SegmentSearch, fit_bspline};
-use crate::chain::{Chain, ChainError, ChainInput, ChainOptions, fit_chain};
+use crate::chain::{Chain, ChainError, ChainInput, ChainOptions, SeamPose, fit_chain};
+use crate::closure::{
+    Closure, ClosureKind, ClosureRecord, close_pieces, find_closure, folded_deviation, seam_pose,
+};
 use crate::prepare::{CornerOptions, DwellOptions, Piece, PieceEnd, prepare};
 use crate::split::{Spans, SplitError, SplitKind, SplitOptions, split_spans};
 use crate::stroke::{NoiseFloor, Stroke, StrokeFile, Units};
@@ -47,6 +50,11 @@ pub struct PipelineOptions {
     pub lac: bool,
     /// Options of the chain stage (defaults: [`ChainOptions::default`]).
     pub chain: ChainOptions,
+    /// Fit a stroke that comes back to its start as a closed curve ([`crate::closure`]).
+    /// Default true (the CLI's `--close auto`); off (`--close never`), every stroke is fitted
+    /// open. Closure needs the chain ([`PipelineOptions::lac`]): its folded samples are
+    /// measured against it.
+    pub close: bool,
 }
 
 impl Default for PipelineOptions {
@@ -63,6 +71,7 @@ impl Default for PipelineOptions {
             split: SplitOptions::default(),
             lac: true,
             chain: ChainOptions::default(),
+            close: true,
         }
     }
 }
@@ -167,6 +176,9 @@ pub struct CurveFit {
     /// The stroke's estimated noise (`None` where the caller fitted with a bare tolerance,
     /// [`fit_stroke`]).
     pub noise: Option<NoiseFloor>,
+    /// On a closed stroke's last piece: how the stroke closes (its chain ends where the first
+    /// piece's starts; a stroke of one piece is one closed curve). `None` on every other piece.
+    pub closure: Option<ClosureRecord>,
 }
 
 /// A stroke fitted as one point: a tap, or any stroke whose samples all lie within the
@@ -551,11 +563,133 @@ pub fn fit_stroke(
     } else {
         DwellOptions::for_tolerance(tolerance)
     };
-    let mut pending: Vec<Piece> = prepare(stroke, &options.corner_options(tolerance), &dwell);
+    let pieces: Vec<Piece> = prepare(stroke, &options.corner_options(tolerance), &dwell);
+    if options.close && options.lac {
+        let corner = options.corner_angle.to_radians();
+        if let Some(closure) = find_closure(&pieces, tolerance, corner)
+            && let Some(curves) = fit_closed(
+                stroke,
+                index,
+                tolerance,
+                options,
+                &fit_options,
+                &pieces,
+                &closure,
+            )
+        {
+            return Ok(curves);
+        }
+    }
+    fit_pieces(pieces, index, tolerance, options, &fit_options, None)
+}
+
+/// Where a closed stroke's curve closes, for [`fit_piece`]: the point both of its ends are held
+/// at, and the seam's pose where it closes smoothly (`None`: at a corner).
+#[derive(Clone, Copy, Debug)]
+struct Closing {
+    meet: crate::geom::Point,
+    seam: Option<SeamPose>,
+}
+
+/// A stroke that comes back to its start ([`find_closure`]) fitted as a closed curve; `None`
+/// where that fails, misses the tolerance (on its own samples, or by more than
+/// [`crate::closure::FOLDED_TOLERANCES`] on the folded ones) or falls back to G1 where a smooth
+/// chain was asked for: the stroke is then fitted open.
+fn fit_closed(
+    stroke: &Stroke,
+    index: usize,
+    tolerance: f64,
+    options: &PipelineOptions,
+    fit_options: &FitOptions,
+    pieces: &[Piece],
+    closure: &Closure,
+) -> Option<Vec<CurveFit>> {
+    let closed = close_pieces(pieces.to_vec(), closure);
+    let seam = match closure.kind {
+        ClosureKind::Smooth => seam_pose(&closed, closure, tolerance),
+        ClosureKind::Corner => None,
+    };
+    // A smooth closure whose seam cannot be read closes at the first sample, as a corner.
+    let kind = if seam.is_some() {
+        ClosureKind::Smooth
+    } else {
+        ClosureKind::Corner
+    };
+    let meet = seam.map_or(closed.first()?.points.first().copied()?, |s| s.point);
+    let mut curves = fit_pieces(
+        closed.clone(),
+        index,
+        tolerance,
+        options,
+        fit_options,
+        Some(Closing { meet, seam }),
+    )
+    .ok()?;
+    // A closed curve that misses the tolerance, has fallen back to G1 where a smooth chain was
+    // asked for, or (a G1 chain) fell back to lines meeting at corners somewhere, is not
+    // taken: the open fit is.
+    let smooth = options.chain.continuity != crate::chain::Continuity::G1;
+    let cornered = |ch: &Chain| {
+        ch.segments
+            .windows(2)
+            .any(|w| w[0].end == crate::chain::JointKind::Corner)
+    };
+    if !curves.iter().all(|c| {
+        c.chain.as_ref().is_some_and(|ch| {
+            ch.within_tolerance
+                && !(smooth && ch.continuity == crate::chain::Continuity::G1)
+                && (smooth || !cornered(ch))
+        })
+    }) {
+        return None;
+    }
+    let chains: Vec<&[crate::chain::ChainSegment]> = curves
+        .iter()
+        .filter_map(|c| c.chain.as_ref().map(|ch| ch.segments.as_slice()))
+        .collect();
+    // The curves' pieces as fitted (a piece cut at its sharpest vertex is two curves).
+    let fitted: Vec<Piece> = curves
+        .iter()
+        .map(|c| Piece {
+            points: c.points.clone(),
+            indices: c.indices.clone(),
+            samples: c.samples,
+            start: PieceEnd::Corner,
+            end: PieceEnd::Corner,
+        })
+        .collect();
+    let positions: Vec<crate::geom::Point> = stroke.samples.iter().map(|s| s.point()).collect();
+    let folded = folded_deviation(&positions, closure, &fitted, &chains, tolerance);
+    if !(folded <= crate::closure::FOLDED_TOLERANCES * tolerance) {
+        return None;
+    }
+    let whole = curves.len() == 1;
+    let last = curves.last_mut()?;
+    last.closure = Some(ClosureRecord {
+        whole,
+        kind,
+        folded: closure.folded,
+        folded_deviation: folded,
+        gap: closure.gap,
+    });
+    Some(curves)
+}
+
+/// Fits `pieces` in order, each through [`fit_piece`] (a piece too short for its tolerance, or
+/// folding back on itself, is cut at its sharpest vertex first).
+fn fit_pieces(
+    pieces: Vec<Piece>,
+    index: usize,
+    tolerance: f64,
+    options: &PipelineOptions,
+    fit_options: &FitOptions,
+    closing: Option<Closing>,
+) -> Result<Vec<CurveFit>, PipelineError> {
+    let mut pending = pieces;
     pending.reverse();
     let mut curves = Vec::with_capacity(pending.len());
     while let Some(piece) = pending.pop() {
-        match fit_piece(&piece, index, tolerance, options, &fit_options) {
+        match fit_piece(&piece, index, tolerance, options, fit_options, closing) {
             // Fewer than four distinct points are fitted by a straight line (too few for a
             // cubic): where the line misses a sample by more than the tolerance, the samples turn
             // at a vertex the data show and the two sides are lines that hold every sample.
@@ -624,22 +758,26 @@ fn cut_at_sharpest(piece: &Piece) -> (Piece, Piece) {
     (a, b)
 }
 
-/// Fits one piece: B-spline, split, chain.
+/// Fits one piece: B-spline, split, chain. `closing`: where a closed stroke's ends meet.
 fn fit_piece(
     piece: &Piece,
     index: usize,
     tolerance: f64,
     options: &PipelineOptions,
     fit_options: &FitOptions,
+    closing: Option<Closing>,
 ) -> Result<CurveFit, PipelineError> {
     let (first, last) = piece.samples;
-    // A corner is shared: both pieces pass exactly through the corner sample (G0).
-    let at_corner = |end: PieceEnd, p: Option<&crate::geom::Point>| {
-        p.copied().filter(|_| end == PieceEnd::Corner)
+    // A corner is shared: both pieces pass exactly through the corner sample (G0). A closed
+    // stroke's ends both pass through where it closes.
+    let held = |end: PieceEnd, p: Option<&crate::geom::Point>| match end {
+        PieceEnd::Corner => p.copied(),
+        PieceEnd::Seam => closing.map(|c| c.meet),
+        _ => None,
     };
     let fit_options = fit_options.with_ends(
-        at_corner(piece.start, piece.points.first()),
-        at_corner(piece.end, piece.points.last()),
+        held(piece.start, piece.points.first()),
+        held(piece.end, piece.points.last()),
     );
     let bspline =
         fit_bspline(&piece.points, &fit_options).map_err(|source| PipelineError::Fit {
@@ -648,10 +786,11 @@ fn fit_piece(
             last,
             source,
         })?;
-    let split = options.split.with_tolerance(tolerance).with_free_ends(
-        piece.start != PieceEnd::Corner,
-        piece.end != PieceEnd::Corner,
-    );
+    let free = |end: PieceEnd| !matches!(end, PieceEnd::Corner | PieceEnd::Seam);
+    let split = options
+        .split
+        .with_tolerance(tolerance)
+        .with_free_ends(free(piece.start), free(piece.end));
     let mut spans = split_spans(&bspline.curve.to_beziers(), &split).map_err(|source| {
         PipelineError::Split {
             stroke: index,
@@ -660,7 +799,14 @@ fn fit_piece(
             source,
         }
     })?;
-    mark_corners(&mut spans, piece.start, piece.end);
+    let seam = closing.and_then(|c| c.seam);
+    let mark = |end: PieceEnd| match end {
+        PieceEnd::Corner => Some(SplitKind::Corner),
+        PieceEnd::Seam if seam.is_some() => Some(SplitKind::Seam),
+        PieceEnd::Seam => Some(SplitKind::Corner),
+        _ => None,
+    };
+    mark_ends(&mut spans, mark(piece.start), mark(piece.end));
     let chain = if options.lac {
         let input = ChainInput {
             points: &piece.points,
@@ -669,6 +815,7 @@ fn fit_piece(
             samples: piece.samples,
             curve: &bspline.curve,
             spans: &spans,
+            seam,
         };
         let chain = fit_chain(&input, tolerance, &options.chain).map_err(|source| {
             PipelineError::Chain {
@@ -692,25 +839,27 @@ fn fit_piece(
         chain,
         tolerance,
         noise: None,
+        closure: None,
     })
 }
 
-/// Relabels a piece's first/last split as `corner` where it meets a neighbour at a corner.
-fn mark_corners(spans: &mut Spans, start: PieceEnd, end: PieceEnd) {
-    if start == PieceEnd::Corner {
+/// Relabels a piece's first/last split (and span end) as `start`/`end` say where they are
+/// given: a corner where it meets a neighbour at a corner, a seam where a closed stroke closes.
+fn mark_ends(spans: &mut Spans, start: Option<SplitKind>, end: Option<SplitKind>) {
+    if let Some(kind) = start {
         if let Some(s) = spans.splits.first_mut() {
-            s.kind = SplitKind::Corner;
+            s.kind = kind;
         }
         if let Some(s) = spans.spans.first_mut() {
-            s.start = SplitKind::Corner;
+            s.start = kind;
         }
     }
-    if end == PieceEnd::Corner {
+    if let Some(kind) = end {
         if let Some(s) = spans.splits.last_mut() {
-            s.kind = SplitKind::Corner;
+            s.kind = kind;
         }
         if let Some(s) = spans.spans.last_mut() {
-            s.end = SplitKind::Corner;
+            s.end = kind;
         }
     }
 }

@@ -76,7 +76,7 @@ pub(crate) fn measured_deviation(
 /// the chord error of it, [`crate::lac::deviation::trace`], computed once per segment by the
 /// caller): the global distance to the segment, where a foot-point search may settle on a local
 /// minimum.
-fn traced_distance(segment: &LacSegment, trace: &[(f64, Point)], q: Point) -> f64 {
+pub(crate) fn traced_distance(segment: &LacSegment, trace: &[(f64, Point)], q: Point) -> f64 {
     let mut best = (f64::INFINITY, 0.0);
     let mut previous: Option<(Point, f64)> = None;
     for &(sb, b) in trace {

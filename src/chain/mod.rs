@@ -33,9 +33,10 @@ pub use alpha_evidence::{
     alpha_uncertainty,
 };
 pub use record::{
-    Chain, ChainError, ChainInput, ChainOptions, ChainSegment, Continuity, JointKind,
+    Chain, ChainError, ChainInput, ChainOptions, ChainSegment, Continuity, JointKind, SeamPose,
 };
 
+pub(crate) use measure::traced_distance;
 use smooth::{SmoothInput, smooth_chain};
 
 /// Fits the chain (see the module doc).

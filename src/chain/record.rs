@@ -59,13 +59,24 @@ pub enum JointKind {
     CurvatureExtremum,
     /// A joint added to meet the tolerance.
     Subdivision,
+    /// Where a closed chain's last segment meets its first ([`ChainInput::seam`]): the first
+    /// segment's start and the last one's end. Both sides hold the seam's point and tangent
+    /// (the G1 chain), and its curvature (the smooth fit), so the chain closes as smoothly as
+    /// its other joints meet.
+    Seam,
 }
 
 impl JointKind {
     /// Whether the tangent on either side of the joint is its segment's own (G0): a start, an
-    /// end or a corner.
+    /// end or a corner (a seam's tangent is the seam's, on both sides).
     pub fn tangent_free(self) -> bool {
         matches!(self, JointKind::Start | JointKind::End | JointKind::Corner)
+    }
+
+    /// Whether the joint's point is fixed: a corner (shared with the neighbouring piece) or a
+    /// closed chain's seam.
+    pub fn fixed_point(self) -> bool {
+        matches!(self, JointKind::Corner | JointKind::Seam)
     }
 }
 
@@ -75,6 +86,7 @@ impl From<SplitKind> for JointKind {
             SplitKind::Start => JointKind::Start,
             SplitKind::End => JointKind::End,
             SplitKind::Corner => JointKind::Corner,
+            SplitKind::Seam => JointKind::Seam,
             SplitKind::Inflection => JointKind::Inflection,
             SplitKind::CurvatureExtremum => JointKind::CurvatureExtremum,
         }
@@ -173,6 +185,23 @@ pub struct ChainInput<'a> {
     pub curve: &'a BSpline,
     /// Its spans.
     pub spans: &'a Spans,
+    /// Where the piece closes on itself (its first span starts, or its last ends, at a
+    /// [`SplitKind::Seam`]): the seam's pose and curvature, which the smooth fit holds on both
+    /// sides. `None` for an open piece.
+    pub seam: Option<SeamPose>,
+}
+
+/// The pose of a closed stroke's seam: where its chain closes, the tangent there and the
+/// curvature, estimated from the samples on both sides of the seam (see
+/// [`crate::prepare::closure`]).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct SeamPose {
+    /// The seam's point.
+    pub point: Point,
+    /// The tangent angle there, in the stroke's direction of travel (radians).
+    pub theta: f64,
+    /// The signed curvature there (left turns positive).
+    pub kappa: f64,
 }
 
 /// Continuity at the smooth (non-corner) joints of a chain.

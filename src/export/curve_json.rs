@@ -113,6 +113,13 @@ pub struct CurveEntry {
     /// the tolerance floor they support (absent when it was not estimated).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub noise: Option<crate::stroke::NoiseFloor>,
+    /// Whether the curve is closed: its chain's last segment ends where its first starts
+    /// (absent when false).
+    #[serde(default, skip_serializing_if = "std::ops::Not::not")]
+    pub closed: bool,
+    /// On a closed stroke's last curve: how the stroke closes ([`crate::closure`]).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub closure: Option<crate::closure::ClosureRecord>,
 }
 
 /// A clamped cubic B-spline and its fit figures.
@@ -160,6 +167,9 @@ pub enum JointContinuity {
     Corner,
     /// Between two segments of the chain.
     Smooth,
+    /// Where a closed chain's last segment meets its first: both the first joint and the last
+    /// say so, each with the continuity measured across the seam.
+    Seam,
 }
 
 /// A joint of a chain and its measured continuity: the curvature and its arc-length derivative
@@ -209,13 +219,32 @@ impl JointRecord {
             }
         };
         let p = |q: crate::geom::Point| [q.x, q.y];
-        let mut joints = vec![JointRecord {
-            kind: end_kind(first.start, JointContinuity::Start),
-            point: p(first.segment.start()),
-            kappa: [None, Some(first.segment.kappa0())],
-            curvature_jump: None,
-            dkappa_ds: [None, finite(first.segment.dkappa_ds(0.0))],
-            dkappa_ds_jump: None,
+        // A closed chain's seam: the last segment's end meets the first's start.
+        let seam = first.start == crate::chain::JointKind::Seam
+            && last.end == crate::chain::JointKind::Seam;
+        let seam_joint = |point| {
+            let (a, b) = (&last.segment, &first.segment);
+            let (da, db) = (a.dkappa_ds(a.length()), b.dkappa_ds(0.0));
+            JointRecord {
+                kind: JointContinuity::Seam,
+                point,
+                kappa: [Some(a.kappa1()), Some(b.kappa0())],
+                curvature_jump: relative_jump(a.kappa1(), b.kappa0()),
+                dkappa_ds: [finite(da), finite(db)],
+                dkappa_ds_jump: relative_jump(da, db),
+            }
+        };
+        let mut joints = vec![if seam {
+            seam_joint(p(first.segment.start()))
+        } else {
+            JointRecord {
+                kind: end_kind(first.start, JointContinuity::Start),
+                point: p(first.segment.start()),
+                kappa: [None, Some(first.segment.kappa0())],
+                curvature_jump: None,
+                dkappa_ds: [None, finite(first.segment.dkappa_ds(0.0))],
+                dkappa_ds_jump: None,
+            }
         }];
         for w in segments.windows(2) {
             let (a, b) = (&w[0].segment, &w[1].segment);
@@ -237,13 +266,17 @@ impl JointRecord {
             });
         }
         let l = &last.segment;
-        joints.push(JointRecord {
-            kind: end_kind(last.end, JointContinuity::End),
-            point: p(l.end()),
-            kappa: [Some(l.kappa1()), None],
-            curvature_jump: None,
-            dkappa_ds: [finite(l.dkappa_ds(l.length())), None],
-            dkappa_ds_jump: None,
+        joints.push(if seam {
+            seam_joint(p(l.end()))
+        } else {
+            JointRecord {
+                kind: end_kind(last.end, JointContinuity::End),
+                point: p(l.end()),
+                kappa: [Some(l.kappa1()), None],
+                curvature_jump: None,
+                dkappa_ds: [finite(l.dkappa_ds(l.length())), None],
+                dkappa_ds_jump: None,
+            }
         });
         joints
     }
@@ -575,6 +608,8 @@ impl CurveEntry {
             // Set by the document, which knows the file's tolerance.
             tolerance: None,
             noise: fit.noise,
+            closed: fit.closure.is_some_and(|c| c.whole),
+            closure: fit.closure,
         }
     }
 }

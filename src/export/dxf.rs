@@ -228,6 +228,9 @@ pub fn dxf_drawing(output: &FitOutput, options: &DxfOptions) -> DxfExport {
             ..Spline::default()
         };
         spline.set_is_planar(true);
+        // A stroke closed in one piece is a closed spline (flag 1): its ends meet (a clamped
+        // spline, not a periodic one).
+        spline.set_is_closed(fit.closure.is_some_and(|c| c.whole));
         drawing.add_entity(Entity::new(EntityType::Spline(spline)));
         splines.push(DxfSplineReport {
             stroke: fit.stroke,

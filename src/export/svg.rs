@@ -659,6 +659,9 @@ pub fn svg_document(
         let mut samples: Option<(usize, usize)> = None;
         // Where the path's pen is: `None` before the first move-to and after a segment left out.
         let mut pen: Option<Point> = None;
+        // A closed stroke drawn as one subpath ends with `Z` (its last segment ends exactly
+        // where the subpath starts).
+        let (mut subpaths, mut closed) = (0, false);
         for piece in members {
             let fit = &output.curves[piece];
             let Some(chain) = fit.chain.as_ref() else {
@@ -676,6 +679,7 @@ pub fn svg_document(
             // would bend the piece's first command away from its exact segment.
             let move_to = pen != Some(start);
             if move_to {
+                subpaths += 1;
                 d.push_str(if d.is_empty() { "M" } else { " M" });
                 push_xy(&mut d, start);
                 pen = Some(start);
@@ -712,6 +716,7 @@ pub fn svg_document(
                 pen = Some(cs.segment.end());
                 reports.push(report);
             }
+            closed = fit.closure.is_some();
             samples = Some(samples.map_or(fit.samples, |(a, b)| {
                 (a.min(fit.samples.0), b.max(fit.samples.1))
             }));
@@ -724,6 +729,9 @@ pub fn svg_document(
         let Some((first_sample, last_sample)) = samples else {
             continue;
         };
+        if closed && subpaths == 1 && pen.is_some() {
+            d.push_str(" Z");
+        }
         let report = SvgPathReport {
             stroke,
             pieces: piece_reports,

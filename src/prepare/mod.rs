@@ -33,6 +33,9 @@ pub enum PieceEnd {
     Hook,
     /// Dwell samples were trimmed beyond this end.
     Dwell,
+    /// Where a closed stroke's curve meets itself ([`crate::closure`]): the first piece's
+    /// start and the last piece's end.
+    Seam,
 }
 
 /// A run of distinct points between corners.
@@ -98,7 +101,9 @@ pub fn prepare(stroke: &Stroke, options: &CornerOptions, dwell: &DwellOptions) -
             // last piece also owns the duplicates merged into its final point.
             let last_sample = match kb {
                 PieceEnd::StrokeEnd => distinct.last[b],
-                PieceEnd::Corner | PieceEnd::Hook | PieceEnd::Dwell => distinct.first[b],
+                PieceEnd::Corner | PieceEnd::Hook | PieceEnd::Dwell | PieceEnd::Seam => {
+                    distinct.first[b]
+                }
             };
             Piece {
                 points: distinct.points[a..=b].to_vec(),

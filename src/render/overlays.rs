@@ -295,7 +295,7 @@ pub fn draw_splits(pixmap: &mut Pixmap, scene: &Scene, view: &View, options: &Re
             SplitKind::Inflection => INFLECTION,
             SplitKind::CurvatureExtremum => EXTREMUM,
             SplitKind::Corner => CORNER,
-            SplitKind::Start | SplitKind::End => MARKER_OUTLINE,
+            SplitKind::Start | SplitKind::End | SplitKind::Seam => MARKER_OUTLINE,
         };
         marker(
             pixmap,

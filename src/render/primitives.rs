@@ -27,7 +27,7 @@ impl MarkerShape {
     /// The marker of a split of kind `kind`.
     pub fn for_split(kind: SplitKind) -> MarkerShape {
         match kind {
-            SplitKind::Start | SplitKind::End => MarkerShape::Ring,
+            SplitKind::Start | SplitKind::End | SplitKind::Seam => MarkerShape::Ring,
             SplitKind::Inflection => MarkerShape::Diamond,
             SplitKind::CurvatureExtremum => MarkerShape::Triangle,
             SplitKind::Corner => MarkerShape::Square,

@@ -1,5 +1,5 @@
 //! Query parameters: the fit options under the command line's names (`tolerance`,
-//! `continuity`, `alpha`, `alpha_range`, `corner_angle`, `keep_hooks`, `lcg`) and each export's
+//! `continuity`, `alpha`, `alpha_range`, `corner_angle`, `keep_hooks`, `close`, `lcg`) and each export's
 //! own (`layers`, `accuracy`, `size`), checked as `kansei fit` checks its options.
 
 use crate::lac::AlphaChoice;
@@ -9,13 +9,14 @@ use crate::stroke::Units;
 use super::error::ApiError;
 
 /// The fit options every fitting endpoint takes.
-pub const FIT_PARAMS: [&str; 7] = [
+pub const FIT_PARAMS: [&str; 8] = [
     "tolerance",
     "continuity",
     "alpha",
     "alpha_range",
     "corner_angle",
     "keep_hooks",
+    "close",
     "lcg",
 ];
 
@@ -112,6 +113,10 @@ impl Params {
             options.corner_angle = a;
         }
         options.keep_hooks = self.flag("keep_hooks")?;
+        if let Some(close) = self.get("close") {
+            let close: crate::closure::Close = close.parse().map_err(ApiError::bad_request)?;
+            options.close = close == crate::closure::Close::Auto;
+        }
         match (self.number("alpha")?, self.get("alpha_range")) {
             (Some(_), Some(_)) => {
                 return Err(ApiError::bad_request(

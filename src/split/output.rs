@@ -19,6 +19,10 @@ pub enum SplitKind {
     /// A tangent discontinuity. Never produced by [`split_spans`](super::split_spans) (strokes
     /// are split at corners upstream); part of the vocabulary shared with later stages.
     Corner,
+    /// Where a closed stroke's curve meets itself (its first span's start and its last span's
+    /// end). Never produced by [`split_spans`](super::split_spans): the pipeline marks a closed
+    /// piece's ends so.
+    Seam,
 }
 
 /// One split point.

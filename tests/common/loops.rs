@@ -257,6 +257,29 @@ fn shape(
     }
 }
 
+/// The shape's truth as its fit should follow it: one round of a closed shape drawn past its
+/// start where the fit came back closed (`closed_fit`: the rounds after the first are folded
+/// onto it, and the closed curve is one round long), else all of it.
+pub fn truth_for(shape: &Shape, closed_fit: bool) -> Vec<(Point, f64)> {
+    let periodic = matches!(shape.class, "circle" | "ellipse" | "superellipse" | "blob");
+    if !(closed_fit && periodic && shape.turns > 1.0) {
+        return shape.truth.clone();
+    }
+    // One round: where the shape has turned a whole turn (an ellipse's length per turn is not
+    // even, so a share of the length would not do).
+    let mut turned = 0.0;
+    let mut out = vec![shape.truth[0], shape.truth[1]];
+    for w in shape.truth.windows(3) {
+        let (a, b) = (w[1].0 - w[0].0, w[2].0 - w[1].0);
+        turned += a.cross(b).atan2(a.dot(b));
+        if turned.abs() > std::f64::consts::TAU {
+            break;
+        }
+        out.push(w[2]);
+    }
+    out
+}
+
 /// Points of the chains' segments every `step` of arc length, with their curvature.
 pub fn chain_points(chains: &[Chain], step: f64) -> Vec<(Point, f64)> {
     let segments: Vec<LacSegment> = chains

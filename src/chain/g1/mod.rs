@@ -330,11 +330,15 @@ impl<'a> Fitter<'a> {
 
     fn joint_at(&self, u: f64, kind: JointKind) -> Joint {
         let (p, t) = self.g1(u);
+        let angle = t.y.atan2(t.x);
+        // A seam's joint is the seam's pose (its angle on the B-spline's turn there).
+        let seam = self.input.seam.filter(|_| kind == JointKind::Seam);
         Joint {
-            p,
-            angle: t.y.atan2(t.x),
+            p: seam.map_or(p, |s| s.point),
+            angle: seam.map_or(angle, |s| angle + crate::geom::wrap_angle(s.theta - angle)),
             kind,
-            fixed: kind == JointKind::Corner,
+            fixed: kind.fixed_point(),
+            held_angle: seam.is_some(),
             u,
         }
     }

@@ -182,7 +182,9 @@ pub(super) fn unknowns(
                 out.push(Unknown::X(j));
                 out.push(Unknown::Y(j));
             }
-            out.push(Unknown::Angle(j));
+            if !joint.held_angle {
+                out.push(Unknown::Angle(j));
+            }
         }
         if options.alpha_range.is_some() && j < segments && moves(j) {
             out.push(Unknown::Alpha(j));

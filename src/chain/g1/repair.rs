@@ -251,6 +251,7 @@ impl<'a> Fitter<'a> {
                 angle: s0.theta1(),
                 kind: JointKind::Subdivision,
                 fixed: false,
+                held_angle: false,
                 u: 0.5 * (a.u + b.u),
             };
             // The samples (in stroke order) are cut in two where the larger distance of a

@@ -24,8 +24,11 @@ pub(crate) struct Joint {
     pub angle: f64,
     /// What the joint is.
     pub kind: JointKind,
-    /// Whether the position is held (a corner shared with the neighbouring piece).
+    /// Whether the position is held (a corner shared with the neighbouring piece, a seam).
     pub fixed: bool,
+    /// Whether the tangent is held too (a closed chain's seam: both of its sides meet the
+    /// seam's tangent, see [`JointKind::Seam`]).
+    pub held_angle: bool,
     /// The B-spline parameter the joint was taken at (refinement moves the joint off the
     /// B-spline; this stays where it came from, to find the B-spline between two joints).
     pub u: f64,
@@ -41,6 +44,7 @@ impl Joint {
             angle,
             kind,
             fixed: false,
+            held_angle: false,
             u: 0.0,
         }
     }

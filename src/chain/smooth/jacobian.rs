@@ -90,7 +90,11 @@ pub(super) fn forward_constraint_jacobian(
     c3_joints: &[usize],
 ) -> Option<ConstraintJacobian> {
     let n = layout.n();
-    let nc = 2 + if solver.c3 { c3_joints.len() } else { 0 };
+    let c3_rows = if solver.c3 { c3_joints.len() } else { 0 };
+    // At a closed chain's seam the end's angle is the last row: every unknown turns it by the
+    // turn of the last segment it reshapes (the rest follow rigidly).
+    let angle_row = x.end_angle.map(|_| 2 + c3_rows);
+    let nc = 2 + c3_rows + usize::from(angle_row.is_some());
     let mut jc = ConstraintJacobian::zeros(nc, vars.len());
     let end = segments[n - 1].end();
     for (col, &var) in vars.iter().enumerate() {
@@ -98,6 +102,9 @@ pub(super) fn forward_constraint_jacobian(
             let d = perp(end - x.pose[0].0) / solver.scale;
             jc.set(0, col, d.x);
             jc.set(1, col, d.y);
+            if let Some(row) = angle_row {
+                jc.set(row, col, 1.0);
+            }
             continue;
         }
         if var == Var::EndShift {
@@ -117,6 +124,9 @@ pub(super) fn forward_constraint_jacobian(
         let d = (d_end + perp(end - old_end) * d_theta) / solver.scale;
         jc.set(0, col, d.x);
         jc.set(1, col, d.y);
+        if let Some(row) = angle_row {
+            jc.set(row, col, d_theta);
+        }
         if solver.c3 {
             let pick = |k: usize| {
                 if (k0..=k1).contains(&k) {
@@ -224,7 +234,15 @@ pub(super) fn shooting_jacobian<'r>(
         })
         .collect();
     // Without C3 rows, a length's column follows from the joints' (below): no construction.
-    let scaled = |var: Var| matches!(var, Var::Length(_)) && !solver.c3;
+    // A seam's held curvature has no column to add: the seam's segments are differenced.
+    let n = layout.n();
+    let scaled = |var: Var| match var {
+        Var::Length(k) => {
+            let held = (k == 0 && layout.seam[0]) || (k + 1 == n && layout.seam[1]);
+            !(solver.c3 || held)
+        }
+        _ => false,
+    };
     // One moved copy of the unknowns, each column's change undone after it (see [`restore`]),
     // and the feet's and constraints' buffers shared by the columns: a column allocates only
     // its constraint column, at its size.
@@ -290,7 +308,6 @@ pub(super) fn shooting_jacobian<'r>(
     // moves by (P − Pₖ)·dv, the turning not at all. So ∂/∂v = (P − Pₖ) + Σ ∂/∂u over its
     // non-zero end joints, whose columns hold segment k's own rows (its samples, its end's
     // equations) apart from the other segment's.
-    let n = layout.n();
     for (col, &var) in vars.iter().enumerate() {
         let Var::Length(k) = var else { continue };
         if !scaled(var) {
@@ -311,7 +328,10 @@ pub(super) fn shooting_jacobian<'r>(
             let value = own + joints.iter().map(|&j| jc.get(row, j)).sum::<f64>();
             jc.set(row, col, value);
         }
-        if let Some(row) = angle {
+        // The end's angle row at a closed chain's seam (the last row) turns with the last
+        // segment as a joint's tangent row does.
+        let seam_angle = (k + 1 == n && x.end_angle.is_some()).then(|| jc.nrows() - 1);
+        for row in angle.into_iter().chain(seam_angle) {
             let value = joints.iter().map(|&j| jc.get(row, j)).sum::<f64>();
             jc.set(row, col, value);
         }

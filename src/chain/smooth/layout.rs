@@ -27,6 +27,9 @@ pub(super) struct Params {
     pub(super) anchors: [(Point, Vec2); 2],
     /// The shifts of the start and the end along those normals.
     pub(super) shift: [f64; 2],
+    /// The tangent angle the chain's end must meet at a closed chain's seam (the seam's angle
+    /// one turn on from the start's, see [`Layout::seam`]); `None` elsewhere.
+    pub(super) end_angle: Option<f64>,
 }
 
 /// One free unknown.
@@ -63,6 +66,12 @@ pub(super) struct Layout {
     pub(super) end_kind: JointKind,
     /// The α search record carried from the G1 segment each segment comes from.
     pub(super) origin: Vec<usize>,
+    /// Whether the chain's start and its end are a closed chain's seam
+    /// ([`JointKind::Seam`]): there the pose and the curvature are held (the start's angle and
+    /// its joint's curvature are not unknowns, the end's curvature neither, and the end's angle
+    /// is a constraint, [`Params::end_angle`]), so that the last segment meets the first as
+    /// smoothly as any two neighbours.
+    pub(super) seam: [bool; 2],
 }
 
 /// How the unknowns lay out a chain.
@@ -110,7 +119,10 @@ impl Layout {
     /// end point's (the forward form lays the chain out from the start pose of the shooting
     /// form's first segment).
     pub(super) fn vars(&self) -> Vec<Var> {
-        let mut vars = vec![Var::Theta0];
+        let mut vars = Vec::new();
+        if !self.seam[0] {
+            vars.push(Var::Theta0);
+        }
         vars.extend(self.shape_vars());
         vars.extend(self.end_vars());
         vars
@@ -120,9 +132,10 @@ impl Layout {
     /// segments' log-lengths and their free α.
     pub(super) fn shape_vars(&self) -> Vec<Var> {
         let mut vars = Vec::new();
+        let held = |j: usize| (j == 0 && self.seam[0]) || (j == self.n() && self.seam[1]);
         vars.extend(
             (0..=self.n())
-                .filter(|&j| self.sigma[j] != 0.0)
+                .filter(|&j| self.sigma[j] != 0.0 && !held(j))
                 .map(Var::Joint),
         );
         vars.extend((0..self.n()).map(Var::Length));
@@ -136,7 +149,8 @@ impl Layout {
 
     /// The shooting form's unknowns.
     pub(super) fn shooting_vars(&self) -> Vec<Var> {
-        let mut vars: Vec<Var> = (0..self.n()).map(Var::Angle).collect();
+        let first = usize::from(self.seam[0]);
+        let mut vars: Vec<Var> = (first..self.n()).map(Var::Angle).collect();
         if self.free_start() {
             vars.push(Var::StartShift);
         }

@@ -229,7 +229,13 @@ pub(super) fn levenberg_marquardt(
     // (see [`normal_equations`]), and its diagonal.
     let pattern = NormalPattern::new(m, &reaching)?;
     // The KKT system's band order: the layout, and so the rows, stay fixed through the solve.
-    let constraint_rows = constraint_order(Form::Shooting, layout.n(), solver.c3, &c3_joints);
+    let constraint_rows = constraint_order(
+        Form::Shooting,
+        layout.n(),
+        solver.c3,
+        &c3_joints,
+        x.end_angle.is_some(),
+    );
     let nc = constraint_rows.len();
     // The unknowns the constraints leave free: the fit's own degrees of freedom.
     let free = m.saturating_sub(nc);

@@ -32,7 +32,7 @@ pub(super) fn project(
 ) -> Option<Vec<LacSegment>> {
     let vars = layout.vars_of(form);
     let n = layout.n();
-    let rows = constraint_order(form, n, solver.c3, c3_joints);
+    let rows = constraint_order(form, n, solver.c3, c3_joints, x.end_angle.is_some());
     // A chain in the shooting form (the start, every trial) need meet the joints only well
     // within the tolerance; the fit's answer is laid out forward exactly at the end (see
     // [`TRIAL_GAP_TOLERANCES`]).
@@ -115,13 +115,20 @@ pub(super) fn project(
     }
 }
 
-/// Where each constraint row of `form` goes in an order along the chain (see [`band_order`]).
-pub(super) fn constraint_order(form: Form, n: usize, c3: bool, c3_joints: &[usize]) -> Vec<usize> {
+/// Where each constraint row of `form` goes in an order along the chain (see [`band_order`]);
+/// `end_angle`: whether the end's tangent angle is a constraint (a closed chain's seam).
+pub(super) fn constraint_order(
+    form: Form,
+    n: usize,
+    c3: bool,
+    c3_joints: &[usize],
+    end_angle: bool,
+) -> Vec<usize> {
     let joint_rows = match form {
         Form::Shooting => 3 * n.saturating_sub(1),
         Form::Forward => 0,
     };
-    let nc = 2 + joint_rows + if c3 { c3_joints.len() } else { 0 };
+    let nc = 2 + joint_rows + if c3 { c3_joints.len() } else { 0 } + usize::from(end_angle);
     positions(
         (0..nc)
             .map(|r| (constraint_key(r, n, joint_rows, c3_joints), r))
@@ -129,8 +136,8 @@ pub(super) fn constraint_order(form: Form, n: usize, c3: bool, c3_joints: &[usiz
     )
 }
 
-/// A constraint row's place along the chain: the end point's after every joint, a joint's
-/// equations (position, tangent, C3) at the joint.
+/// A constraint row's place along the chain: the end point's (and the end angle's, the last
+/// row) after every joint, a joint's equations (position, tangent, C3) at the joint.
 pub(super) fn constraint_key(r: usize, n: usize, joint_rows: usize, c3_joints: &[usize]) -> f64 {
     if r < 2 {
         n as f64

@@ -238,7 +238,8 @@ impl Solver<'_> {
     /// The constraint values of a chain: end point minus the target (scaled by the extent);
     /// in the shooting form each joint's position and tangent gaps (the segment's end pose
     /// minus the next one's start pose in `x`); then for C3 the dκ/ds differences at
-    /// `c3_joints`.
+    /// `c3_joints`; last, at a closed chain's seam, the end's tangent angle minus its target
+    /// ([`Params::end_angle`]).
     pub(super) fn constraints(
         &self,
         form: Form,
@@ -246,7 +247,7 @@ impl Solver<'_> {
         x: &Params,
         c3_joints: &[usize],
     ) -> DVector<f64> {
-        let mut c = Vec::with_capacity(2 + 3 * segments.len() + c3_joints.len());
+        let mut c = Vec::with_capacity(3 + 3 * segments.len() + c3_joints.len());
         self.constraints_into(form, segments, x, c3_joints, &mut c);
         DVector::from_vec(c)
     }
@@ -277,6 +278,9 @@ impl Solver<'_> {
             for &j in c3_joints {
                 c.push(c3_gap(&segments[j - 1], &segments[j]));
             }
+        }
+        if let (Some(target), Some(last)) = (x.end_angle, segments.last()) {
+            c.push(last.theta1() - target);
         }
     }
 

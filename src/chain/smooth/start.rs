@@ -130,6 +130,7 @@ pub(super) fn start_layout(
         kinds: smooth.chain.segments.iter().map(|s| s.start).collect(),
         end_kind: smooth.chain.segments[n - 1].end,
         origin: (0..n).collect(),
+        seam: [false; 2],
     };
     // Each segment's start pose, its angle continued from the one before (the G1 segments keep
     // theirs in (−π, π]).
@@ -156,7 +157,9 @@ pub(super) fn start_layout(
             (segs[n - 1].end(), normal(segs[n - 1].theta1())),
         ],
         shift: [0.0; 2],
+        end_angle: None,
     };
+    hold_seam(smooth, &mut layout, &mut x, theta);
     for k in 0..n {
         layout.alpha_bounds.push(None);
         set_alpha_bounds(smooth.alpha, &mut layout, &mut x, k)?;
@@ -246,6 +249,69 @@ pub(super) fn start_layout(
         }
     }
     Some((layout, x))
+}
+
+/// Holds a closed chain's seam where the part starts or ends there (see [`Layout::seam`]): the
+/// start's angle and curvature and the end's curvature are set to the seam's
+/// ([`crate::chain::ChainInput::seam`]), and the end's angle must meet the seam's one turn on
+/// (`end_theta`: the G1 chain's end angle run on from its start, which picks the turn). A
+/// seam of curvature 0 is an inflection joint on both sides. Where the seam's curvature has not
+/// the sign of the G1 segment's curvature there, a chain from one to the other could not be
+/// built: that end stays a corner (its point held, its tangent free) and says so.
+fn hold_seam(smooth: &SmoothInput, layout: &mut Layout, x: &mut Params, end_theta: f64) {
+    // The α bounds are not laid out yet: the segments are the kinds'.
+    let n = layout.kinds.len();
+    let ends = [layout.kinds[0], layout.end_kind].map(|k| k == JointKind::Seam);
+    let Some(seam) = smooth.input.seam.filter(|_| ends.contains(&true)) else {
+        for (held, kind) in ends.into_iter().zip([0, n]) {
+            if held {
+                set_kind(layout, kind, JointKind::Corner);
+            }
+        }
+        return;
+    };
+    let sign = if seam.kappa > 0.0 {
+        1.0
+    } else if seam.kappa < 0.0 {
+        -1.0
+    } else {
+        0.0
+    };
+    let turn = std::f64::consts::TAU;
+    // The seam's angle on the turn nearest `near`.
+    let nearest = |near: f64| seam.theta + turn * ((near - seam.theta) / turn).round();
+    for (end, joint) in [(0, 0), (1, n)] {
+        if !ends[end] {
+            continue;
+        }
+        if sign == 0.0 {
+            // An inflection at the seam: a zero joint on both sides.
+            layout.sigma[joint] = 0.0;
+            x.u[joint] = 0.0;
+        } else if layout.sigma[joint] != sign {
+            set_kind(layout, joint, JointKind::Corner);
+            continue;
+        }
+        layout.seam[end] = true;
+        if sign != 0.0 {
+            x.u[joint] = seam.kappa.abs().ln();
+        }
+        if end == 0 {
+            let theta = nearest(x.pose[0].1);
+            x.pose[0].1 = theta;
+            x.theta0 = theta;
+        } else {
+            x.end_angle = Some(nearest(end_theta));
+        }
+    }
+}
+
+/// Sets the kind of joint `j` (0..=n) of `layout`.
+fn set_kind(layout: &mut Layout, j: usize, kind: JointKind) {
+    match layout.kinds.get_mut(j) {
+        Some(k) => *k = kind,
+        None => layout.end_kind = kind,
+    }
 }
 
 /// A transition spiral of the starting chain (see [`start_layout`]) is as long as a clothoid
