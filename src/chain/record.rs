@@ -193,7 +193,7 @@ pub struct ChainInput<'a> {
 
 /// The pose of a closed stroke's seam: where its chain closes, the tangent there and the
 /// curvature, estimated from the samples on both sides of the seam (see
-/// [`crate::prepare::closure`]).
+/// [`crate::closure`]).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct SeamPose {
     /// The seam's point.
