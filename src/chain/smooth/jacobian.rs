@@ -93,8 +93,11 @@ pub(super) fn forward_constraint_jacobian(
     let c3_rows = if solver.c3 { c3_joints.len() } else { 0 };
     // At a closed chain's seam the end's angle is the last row: every unknown turns it by the
     // turn of the last segment it reshapes (the rest follow rigidly).
-    let angle_row = x.end_angle.map(|_| 2 + c3_rows);
-    let nc = 2 + c3_rows + usize::from(angle_row.is_some());
+    // A whole closed chain's end angle is measured from its start's (the start angle moves both
+    // alike), and its end joint's log-curvature tied to the start's by the row after it.
+    let angle_row = (x.end_angle.is_some() || x.seam_turn.is_some()).then_some(2 + c3_rows);
+    let tie_row = x.seam_turn.map(|_| 3 + c3_rows);
+    let nc = 2 + c3_rows + x.seam_rows();
     let mut jc = ConstraintJacobian::zeros(nc, vars.len());
     let end = segments[n - 1].end();
     for (col, &var) in vars.iter().enumerate() {
@@ -102,10 +105,17 @@ pub(super) fn forward_constraint_jacobian(
             let d = perp(end - x.pose[0].0) / solver.scale;
             jc.set(0, col, d.x);
             jc.set(1, col, d.y);
-            if let Some(row) = angle_row {
+            if let Some(row) = angle_row.filter(|_| x.seam_turn.is_none()) {
                 jc.set(row, col, 1.0);
             }
             continue;
+        }
+        if let (Some(row), Var::Joint(j)) = (tie_row, var) {
+            if j == 0 {
+                jc.set(row, col, -1.0);
+            } else if j == n {
+                jc.set(row, col, 1.0);
+            }
         }
         if var == Var::EndShift {
             let d = x.anchors[1].1 / -solver.scale;
@@ -238,7 +248,7 @@ pub(super) fn shooting_jacobian<'r>(
     let n = layout.n();
     let scaled = |var: Var| match var {
         Var::Length(k) => {
-            let held = (k == 0 && layout.seam[0]) || (k + 1 == n && layout.seam[1]);
+            let held = (k == 0 && layout.held(0)) || (k + 1 == n && layout.held(1));
             !(solver.c3 || held)
         }
         _ => false,
@@ -328,9 +338,9 @@ pub(super) fn shooting_jacobian<'r>(
             let value = own + joints.iter().map(|&j| jc.get(row, j)).sum::<f64>();
             jc.set(row, col, value);
         }
-        // The end's angle row at a closed chain's seam (the last row) turns with the last
-        // segment as a joint's tangent row does.
-        let seam_angle = (k + 1 == n && x.end_angle.is_some()).then(|| jc.nrows() - 1);
+        // The end's angle row at a closed chain's seam turns with the last segment as a joint's
+        // tangent row does (the last row, or the one before a whole closed chain's tie).
+        let seam_angle = (k + 1 == n && x.seam_rows() > 0).then(|| jc.nrows() - x.seam_rows());
         for row in angle.into_iter().chain(seam_angle) {
             let value = joints.iter().map(|&j| jc.get(row, j)).sum::<f64>();
             jc.set(row, col, value);

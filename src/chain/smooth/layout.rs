@@ -27,9 +27,21 @@ pub(super) struct Params {
     pub(super) anchors: [(Point, Vec2); 2],
     /// The shifts of the start and the end along those normals.
     pub(super) shift: [f64; 2],
-    /// The tangent angle the chain's end must meet at a closed chain's seam (the seam's angle
-    /// one turn on from the start's, see [`Layout::seam`]); `None` elsewhere.
+    /// The tangent angle the chain's end must meet at a closed chain's seam held at the end
+    /// only (the seam's angle one turn on, see [`Layout::seam`]); `None` elsewhere.
     pub(super) end_angle: Option<f64>,
+    /// Where the chain is the whole closed chain ([`Layout::tied`]): the turn from its start's
+    /// tangent angle to its end's (±2π for one round), which the end meets; the start's angle
+    /// and the seam's curvature stay unknowns, tied to the end's by two constraint rows.
+    pub(super) seam_turn: Option<f64>,
+}
+
+impl Params {
+    /// The constraint rows after the C3 rows: the end angle of a seam held at the end (one),
+    /// or a tied seam's angle and curvature (two).
+    pub(super) fn seam_rows(&self) -> usize {
+        usize::from(self.end_angle.is_some()) + 2 * usize::from(self.seam_turn.is_some())
+    }
 }
 
 /// One free unknown.
@@ -67,10 +79,12 @@ pub(super) struct Layout {
     /// The α search record carried from the G1 segment each segment comes from.
     pub(super) origin: Vec<usize>,
     /// Whether the chain's start and its end are a closed chain's seam
-    /// ([`JointKind::Seam`]): there the pose and the curvature are held (the start's angle and
-    /// its joint's curvature are not unknowns, the end's curvature neither, and the end's angle
-    /// is a constraint, [`Params::end_angle`]), so that the last segment meets the first as
-    /// smoothly as any two neighbours.
+    /// ([`JointKind::Seam`]). Where both are ([`Layout::tied`]), the seam's tangent and
+    /// curvature are unknowns shared by both ends through two constraint rows
+    /// ([`Params::seam_turn`]); where one is (a part of the chain between a seam and a corner),
+    /// its pose and curvature are held (the start's angle and the joint's curvature are not
+    /// unknowns; the end's curvature is not, its angle is a constraint, [`Params::end_angle`]).
+    /// Either way the last segment meets the first as smoothly as any two neighbours.
     pub(super) seam: [bool; 2],
 }
 
@@ -91,6 +105,18 @@ pub(super) enum Form {
 impl Layout {
     pub(super) fn n(&self) -> usize {
         self.alpha_bounds.len()
+    }
+
+    /// Whether the chain is a whole closed chain, both its ends at the seam: the seam's tangent
+    /// and curvature are then unknowns of both ends (see [`Layout::seam`]).
+    pub(super) fn tied(&self) -> bool {
+        self.seam[0] && self.seam[1]
+    }
+
+    /// Whether the seam holds end `end` (0 the start, 1 the end) fixed: a seam end of a part
+    /// that is not the whole closed chain.
+    pub(super) fn held(&self, end: usize) -> bool {
+        self.seam[end] && !self.tied()
     }
 
     /// Whether the chain's start point is an unknown: at the stroke's own start, where the
@@ -120,7 +146,7 @@ impl Layout {
     /// form's first segment).
     pub(super) fn vars(&self) -> Vec<Var> {
         let mut vars = Vec::new();
-        if !self.seam[0] {
+        if !self.held(0) {
             vars.push(Var::Theta0);
         }
         vars.extend(self.shape_vars());
@@ -132,7 +158,7 @@ impl Layout {
     /// segments' log-lengths and their free α.
     pub(super) fn shape_vars(&self) -> Vec<Var> {
         let mut vars = Vec::new();
-        let held = |j: usize| (j == 0 && self.seam[0]) || (j == self.n() && self.seam[1]);
+        let held = |j: usize| (j == 0 && self.held(0)) || (j == self.n() && self.held(1));
         vars.extend(
             (0..=self.n())
                 .filter(|&j| self.sigma[j] != 0.0 && !held(j))
@@ -149,7 +175,7 @@ impl Layout {
 
     /// The shooting form's unknowns.
     pub(super) fn shooting_vars(&self) -> Vec<Var> {
-        let first = usize::from(self.seam[0]);
+        let first = usize::from(self.held(0));
         let mut vars: Vec<Var> = (first..self.n()).map(Var::Angle).collect();
         if self.free_start() {
             vars.push(Var::StartShift);

@@ -234,7 +234,7 @@ pub(super) fn levenberg_marquardt(
         layout.n(),
         solver.c3,
         &c3_joints,
-        x.end_angle.is_some(),
+        x.seam_rows(),
     );
     let nc = constraint_rows.len();
     // The unknowns the constraints leave free: the fit's own degrees of freedom.

@@ -32,7 +32,7 @@ pub(super) fn project(
 ) -> Option<Vec<LacSegment>> {
     let vars = layout.vars_of(form);
     let n = layout.n();
-    let rows = constraint_order(form, n, solver.c3, c3_joints, x.end_angle.is_some());
+    let rows = constraint_order(form, n, solver.c3, c3_joints, x.seam_rows());
     // A chain in the shooting form (the start, every trial) need meet the joints only well
     // within the tolerance; the fit's answer is laid out forward exactly at the end (see
     // [`TRIAL_GAP_TOLERANCES`]).
@@ -116,19 +116,19 @@ pub(super) fn project(
 }
 
 /// Where each constraint row of `form` goes in an order along the chain (see [`band_order`]);
-/// `end_angle`: whether the end's tangent angle is a constraint (a closed chain's seam).
+/// `seam_rows`: the closed chain's rows after the C3 rows ([`Params::seam_rows`]).
 pub(super) fn constraint_order(
     form: Form,
     n: usize,
     c3: bool,
     c3_joints: &[usize],
-    end_angle: bool,
+    seam_rows: usize,
 ) -> Vec<usize> {
     let joint_rows = match form {
         Form::Shooting => 3 * n.saturating_sub(1),
         Form::Forward => 0,
     };
-    let nc = 2 + joint_rows + if c3 { c3_joints.len() } else { 0 } + usize::from(end_angle);
+    let nc = 2 + joint_rows + if c3 { c3_joints.len() } else { 0 } + seam_rows;
     positions(
         (0..nc)
             .map(|r| (constraint_key(r, n, joint_rows, c3_joints), r))

@@ -239,7 +239,8 @@ impl Solver<'_> {
     /// in the shooting form each joint's position and tangent gaps (the segment's end pose
     /// minus the next one's start pose in `x`); then for C3 the dκ/ds differences at
     /// `c3_joints`; last, at a closed chain's seam, the end's tangent angle minus its target
-    /// ([`Params::end_angle`]).
+    /// ([`Params::end_angle`]), or for a whole closed chain minus the start's one turn on and
+    /// the end joint's log-curvature minus the start's ([`Params::seam_turn`]).
     pub(super) fn constraints(
         &self,
         form: Form,
@@ -281,6 +282,17 @@ impl Solver<'_> {
         }
         if let (Some(target), Some(last)) = (x.end_angle, segments.last()) {
             c.push(last.theta1() - target);
+        }
+        // A whole closed chain: the end's tangent one turn on from the start's, and the end
+        // joint's log-curvature the start joint's.
+        if let (Some(turn), Some(last)) = (x.seam_turn, segments.last()) {
+            let start = match form {
+                Form::Shooting => x.pose[0].1,
+                Form::Forward => x.theta0,
+            };
+            c.push(last.theta1() - start - turn);
+            let n = segments.len();
+            c.push(x.u[n] - x.u[0]);
         }
     }
 

@@ -158,6 +158,7 @@ pub(super) fn start_layout(
         ],
         shift: [0.0; 2],
         end_angle: None,
+        seam_turn: None,
     };
     hold_seam(smooth, &mut layout, &mut x, theta);
     for k in 0..n {
@@ -303,6 +304,12 @@ fn hold_seam(smooth: &SmoothInput, layout: &mut Layout, x: &mut Params, end_thet
         } else {
             x.end_angle = Some(nearest(end_theta));
         }
+    }
+    // A whole closed chain: its end meets its start one turn on, whatever the start's angle.
+    if layout.tied()
+        && let Some(target) = x.end_angle.take()
+    {
+        x.seam_turn = Some(target - x.pose[0].1);
     }
 }
 
