@@ -179,7 +179,7 @@ fn turning_inputs_keep_the_guarantee() {
     let mut rng = adversarial::SplitMix::new(0x6c6f_6f70);
     for case in 0..cases {
         let len = 2 + 2 * rng.int(10, 60) as usize;
-        let mut data = vec![adversarial::TURNING_HEAD + (rng.int(0, 15) as u8)];
+        let mut data = vec![adversarial::TURNING_HEAD + (rng.int(0, 7) as u8)];
         // A steady turn with small changes, as a hand draws a loop.
         let turn = rng.int(0, 15) as u8;
         for _ in 0..len / 2 {
@@ -191,6 +191,42 @@ fn turning_inputs_keep_the_guarantee() {
         assert!(result.is_ok(), "turning case {case}: {data:02x?}");
     }
 }
+
+/// Pseudo-random inputs of the `fit_stroke` target's closing mode (head bytes from
+/// `CLOSING_HEAD`: ellipses drawn from just short of a turn to two turns, wobbling, on whole,
+/// quarter and fine pixel grids), through the same checks as a saved input, which for a closed
+/// stroke check that it closes and that its folded samples lie within their allowance.
+/// `KANSEI_CLOSING_CASES=N` runs N of them instead.
+#[test]
+fn closing_inputs_keep_the_guarantee() {
+    let cases = std::env::var("KANSEI_CLOSING_CASES")
+        .ok()
+        .and_then(|n| n.parse().ok())
+        .unwrap_or(CLOSING_CASES);
+    let mut rng = adversarial::SplitMix::new(0x636c_6f73);
+    let mut closed = 0;
+    for case in 0..cases {
+        let len = rng.int(20, 94) as usize;
+        let mut data = vec![adversarial::CLOSING_HEAD + (rng.int(0, 7) as u8)];
+        data.extend((0..len).map(|_| rng.int(0, 255) as u8));
+        let result = catch_unwind(AssertUnwindSafe(|| fit_stroke(&data)));
+        assert!(result.is_ok(), "closing case {case}: {data:02x?}");
+        if let Some((stroke, tolerance)) = adversarial::stroke_from_bytes(&data) {
+            let options = kansei::pipeline::PipelineOptions::default().with_tolerance(tolerance);
+            if let kansei::pipeline::StrokeOutcome::Curves(curves) =
+                kansei::pipeline::fit_one(&stroke, 0, tolerance, &options)
+            {
+                closed += usize::from(curves.iter().any(|c| c.closure.is_some()));
+            }
+        }
+    }
+    // The mode exercises closure: most of its shapes come back closed (those short of a turn
+    // by more than the closing radius, or wobbling beyond the folded allowance, stay open).
+    assert!(2 * closed >= cases, "{closed} of {cases} closed");
+}
+
+/// Closing inputs [`closing_inputs_keep_the_guarantee`] tries by default.
+const CLOSING_CASES: usize = 60;
 
 /// Turning inputs [`turning_inputs_keep_the_guarantee`] tries by default (about 6 s).
 const TURNING_CASES: usize = 120;

@@ -417,6 +417,40 @@ pub fn check(case: &Case, result: &Result<Vec<CurveFit>, PipelineError>) -> Brea
         if !chain.within_tolerance {
             breaks.reported_misses += 1;
         }
+        // A closed stroke: a curve that is the whole loop ends where it starts, and the samples
+        // folded onto the loop lie within the allowance of the chain (nearest point of the
+        // whole chain: a bound below the ordered measure the record states, which may not be
+        // smaller).
+        if let Some(closure) = fit.closure {
+            if closure.whole {
+                let (first, last) = (segs[0], segs[segs.len() - 1]);
+                if first.start().distance(last.end()) > slack {
+                    breaks.guarantee.push(format!(
+                        "samples {a}..={b}: closed, but ends {} from its start",
+                        first.start().distance(last.end())
+                    ));
+                }
+            }
+            if let Some((f, l)) = closure.folded {
+                let nearest = samples[f..=l.min(samples.len() - 1)]
+                    .iter()
+                    .map(|q| {
+                        lines
+                            .iter()
+                            .map(|line| polyline_distance(q.point(), line))
+                            .fold(f64::INFINITY, f64::min)
+                    })
+                    .fold(0.0, f64::max);
+                let allowed = kansei::closure::FOLDED_TOLERANCES * tol;
+                if nearest - slack > allowed || closure.folded_deviation + slack < nearest {
+                    breaks.guarantee.push(format!(
+                        "samples {a}..={b}: folded {f}..={l} lie {nearest} from the chain, \
+                         reported {}",
+                        closure.folded_deviation
+                    ));
+                }
+            }
+        }
         // Ranges: the first starts the piece, the last ends it, each starts after the one before.
         let ranges: Vec<(usize, usize)> = chain.segments.iter().map(|s| s.samples).collect();
         if ranges.first().map(|r| r.0) != Some(a) || ranges.last().map(|r| r.1) != Some(b) {
@@ -484,6 +518,9 @@ pub fn stroke_from_bytes(data: &[u8]) -> Option<(Stroke, f64)> {
     let tolerance = [0.5, 0.25, 1.0, 0.1][usize::from((head / 3) % 4)];
     let mut p = Point::new(400.0, 300.0);
     let mut points = vec![p];
+    if head >= CLOSING_HEAD {
+        return closing_stroke(moves, grid, tolerance);
+    }
     if head >= TURNING_HEAD {
         // The pen's heading turns by the first byte of each pair and it moves by the second:
         // repeated turns draw circles, loops, spirals and circles gone round past their start,
@@ -503,6 +540,34 @@ pub fn stroke_from_bytes(data: &[u8]) -> Option<(Stroke, f64)> {
         p = Point::new(p.x + step(pair[0]), p.y + step(pair[1]));
         points.push(p);
     }
+    Some((Stroke::from_points(points), tolerance))
+}
+
+/// Head bytes from this one on decode a closed shape ([`stroke_from_bytes`], `closing_stroke`):
+/// an ellipse drawn from just short of one turn to two, its radius wobbling by the bytes,
+/// rounded to the grid: strokes that come back to their start, to close.
+pub const CLOSING_HEAD: u8 = 0xf8;
+
+/// The closed shapes of [`CLOSING_HEAD`]: the first byte sets the radius (20..140 px) and the
+/// aspect (0.4..1), the second the turns drawn (0.97, 1, 1.05, 1.3 or 2), every further byte one
+/// sample's radial wobble (up to half the tolerance either way), the samples spread evenly over
+/// the turns.
+fn closing_stroke(moves: &[u8], grid: f64, tolerance: f64) -> Option<(Stroke, f64)> {
+    let (&shape, rest) = moves.split_first()?;
+    let (&extent, wobble) = rest.split_first()?;
+    let radius = 20.0 + 8.0 * f64::from(shape & 0x0f);
+    let aspect = 0.4 + 0.04 * f64::from(shape >> 4);
+    let turns = [0.97, 1.0, 1.05, 1.3, 2.0][usize::from(extent % 5)];
+    let n = wobble.len().min(MAX_FUZZ_SAMPLES - 1);
+    if n < 2 {
+        return None;
+    }
+    let points = wobble[..n].iter().enumerate().map(|(k, &b)| {
+        let t = std::f64::consts::TAU * turns * k as f64 / (n - 1) as f64;
+        let r = radius + 0.5 * tolerance * (f64::from(b) - 127.5) / 127.5;
+        let q = Point::new(400.0 + r * t.cos(), 300.0 + aspect * r * t.sin());
+        Point::new((q.x / grid).round() * grid, (q.y / grid).round() * grid)
+    });
     Some((Stroke::from_points(points), tolerance))
 }
 

@@ -97,7 +97,8 @@ pub(super) fn forward_constraint_jacobian(
     // alike), and its end joint's log-curvature tied to the start's by the row after it.
     let angle_row = (x.end_angle.is_some() || x.seam_turn.is_some()).then_some(2 + c3_rows);
     let tie_row = x.seam_turn.map(|_| 3 + c3_rows);
-    let nc = 2 + c3_rows + x.seam_rows();
+    let seam_c3_row = (x.seam_rows(solver.c3) == 3).then_some(4 + c3_rows);
+    let nc = 2 + c3_rows + x.seam_rows(solver.c3);
     let mut jc = ConstraintJacobian::zeros(nc, vars.len());
     let end = segments[n - 1].end();
     for (col, &var) in vars.iter().enumerate() {
@@ -151,6 +152,14 @@ pub(super) fn forward_constraint_jacobian(
                     let after = c3_gap(pick(j - 1), pick(j));
                     jc.set(2 + row, col, (after - before) / DIFFERENCE_STEP);
                 }
+            }
+            // Across a whole closed chain's seam: the last segment against the first.
+            if let Some(row) = seam_c3_row
+                && ((k0..=k1).contains(&0) || (k0..=k1).contains(&(n - 1)))
+            {
+                let before = c3_gap(&segments[n - 1], &segments[0]);
+                let after = c3_gap(pick(n - 1), pick(0));
+                jc.set(row, col, (after - before) / DIFFERENCE_STEP);
             }
         }
     }
@@ -340,7 +349,8 @@ pub(super) fn shooting_jacobian<'r>(
         }
         // The end's angle row at a closed chain's seam turns with the last segment as a joint's
         // tangent row does (the last row, or the one before a whole closed chain's tie).
-        let seam_angle = (k + 1 == n && x.seam_rows() > 0).then(|| jc.nrows() - x.seam_rows());
+        let seam_angle = (k + 1 == n && x.seam_rows(solver.c3) > 0)
+            .then(|| 2 + 3 * (n - 1) + c3_joints.len() * usize::from(solver.c3));
         for row in angle.into_iter().chain(seam_angle) {
             let value = joints.iter().map(|&j| jc.get(row, j)).sum::<f64>();
             jc.set(row, col, value);

@@ -34,13 +34,19 @@ pub(super) struct Params {
     /// tangent angle to its end's (±2π for one round), which the end meets; the start's angle
     /// and the seam's curvature stay unknowns, tied to the end's by two constraint rows.
     pub(super) seam_turn: Option<f64>,
+    /// Whether a whole closed chain's seam, where its curvature is not zero, holds dκ/ds on
+    /// both sides too when the fit is C3 (one more row after the tie).
+    pub(super) seam_c3: bool,
 }
 
 impl Params {
-    /// The constraint rows after the C3 rows: the end angle of a seam held at the end (one),
-    /// or a tied seam's angle and curvature (two).
-    pub(super) fn seam_rows(&self) -> usize {
-        usize::from(self.end_angle.is_some()) + 2 * usize::from(self.seam_turn.is_some())
+    /// The constraint rows after the C3 rows (`c3`: whether the fit is C3): the end angle of a
+    /// seam held at the end (one), or a tied seam's angle and curvature (two), and its dκ/ds
+    /// (one more, C3 only).
+    pub(super) fn seam_rows(&self, c3: bool) -> usize {
+        usize::from(self.end_angle.is_some())
+            + 2 * usize::from(self.seam_turn.is_some())
+            + usize::from(c3 && self.seam_c3 && self.seam_turn.is_some())
     }
 }
 

@@ -234,7 +234,7 @@ pub(super) fn levenberg_marquardt(
         layout.n(),
         solver.c3,
         &c3_joints,
-        x.seam_rows(),
+        x.seam_rows(solver.c3),
     );
     let nc = constraint_rows.len();
     // The unknowns the constraints leave free: the fit's own degrees of freedom.

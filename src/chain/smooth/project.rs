@@ -32,7 +32,7 @@ pub(super) fn project(
 ) -> Option<Vec<LacSegment>> {
     let vars = layout.vars_of(form);
     let n = layout.n();
-    let rows = constraint_order(form, n, solver.c3, c3_joints, x.seam_rows());
+    let rows = constraint_order(form, n, solver.c3, c3_joints, x.seam_rows(solver.c3));
     // A chain in the shooting form (the start, every trial) need meet the joints only well
     // within the tolerance; the fit's answer is laid out forward exactly at the end (see
     // [`TRIAL_GAP_TOLERANCES`]).

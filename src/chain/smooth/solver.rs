@@ -240,7 +240,8 @@ impl Solver<'_> {
     /// minus the next one's start pose in `x`); then for C3 the dκ/ds differences at
     /// `c3_joints`; last, at a closed chain's seam, the end's tangent angle minus its target
     /// ([`Params::end_angle`]), or for a whole closed chain minus the start's one turn on and
-    /// the end joint's log-curvature minus the start's ([`Params::seam_turn`]).
+    /// the end joint's log-curvature minus the start's ([`Params::seam_turn`]), and for C3 the
+    /// dκ/ds difference across the seam ([`Params::seam_c3`]).
     pub(super) fn constraints(
         &self,
         form: Form,
@@ -293,6 +294,9 @@ impl Solver<'_> {
             c.push(last.theta1() - start - turn);
             let n = segments.len();
             c.push(x.u[n] - x.u[0]);
+            if self.c3 && x.seam_c3 {
+                c.push(c3_gap(last, &segments[0]));
+            }
         }
     }
 

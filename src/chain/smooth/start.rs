@@ -159,6 +159,7 @@ pub(super) fn start_layout(
         shift: [0.0; 2],
         end_angle: None,
         seam_turn: None,
+        seam_c3: false,
     };
     hold_seam(smooth, &mut layout, &mut x, theta);
     for k in 0..n {
@@ -310,6 +311,9 @@ fn hold_seam(smooth: &SmoothInput, layout: &mut Layout, x: &mut Params, end_thet
         && let Some(target) = x.end_angle.take()
     {
         x.seam_turn = Some(target - x.pose[0].1);
+        // dκ/ds is continuous across a seam of non-zero curvature in C3 (an inflection's is
+        // not held at any joint, as at the other zero joints).
+        x.seam_c3 = sign != 0.0;
     }
 }
 
