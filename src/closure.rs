@@ -248,6 +248,14 @@ pub fn find_closure(pieces: &[Piece], tolerance: f64, corner_angle: f64) -> Opti
             while e < run_end && before(e + 1) {
                 e += 1;
             }
+            // What follows must lie over the loop: any curve within the tolerance of the
+            // loop's points lies within it of their polyline, so a point farther than
+            // the folded allowance and a tolerance from it cannot be folded (a scribble going
+            // on past its start), and no fit is spent on it.
+            let allowance = (FOLDED_TOLERANCES + 1.0) * tolerance;
+            if !follows_loop(&points[..=e], &points[e + 1..], allowance) {
+                continue;
+            }
             return Some(closure(
                 ClosureKind::Smooth,
                 pieces,
@@ -267,6 +275,33 @@ pub fn find_closure(pieces: &[Piece], tolerance: f64, corner_angle: f64) -> Opti
         }
     }
     None
+}
+
+/// Whether every point of `after` lies within `allowance` of the closed polyline `loop_points`
+/// (its last point joined back to its first), each near the loop's part a little ahead of the
+/// last one's (the ordered search of [`folded_deviation`]).
+fn follows_loop(loop_points: &[Point], after: &[Point], allowance: f64) -> bool {
+    let m = loop_points.len();
+    if m < 2 {
+        return after.is_empty();
+    }
+    let reach = ((PARTNER_REACH_SHARE * m as f64) as usize).max(2);
+    let mut partner = 0;
+    for &q in after {
+        let (best, distance) = (0..=reach)
+            .map(|d| {
+                let i = (partner + d) % m;
+                let (a, b) = (loop_points[i], loop_points[(i + 1) % m]);
+                (i, crate::geom::distance_to_segment(q, a, b))
+            })
+            .min_by(|x, y| x.1.total_cmp(&y.1))
+            .unwrap_or((partner, f64::INFINITY));
+        if distance > allowance {
+            return false;
+        }
+        partner = best;
+    }
+    true
 }
 
 /// The closure whose loop ends at flattened point `e`.

@@ -564,6 +564,8 @@ pub fn fit_stroke(
         DwellOptions::for_tolerance(tolerance)
     };
     let pieces: Vec<Piece> = prepare(stroke, &options.corner_options(tolerance), &dwell);
+    // The pieces fitted so far, by piece (a closed fit not taken leaves its inner pieces).
+    let mut fitted = Vec::new();
     if options.close && options.lac {
         let corner = options.corner_angle.to_radians();
         if let Some(closure) = find_closure(&pieces, tolerance, corner)
@@ -575,12 +577,21 @@ pub fn fit_stroke(
                 &fit_options,
                 &pieces,
                 &closure,
+                &mut fitted,
             )
         {
             return Ok(curves);
         }
     }
-    fit_pieces(pieces, index, tolerance, options, &fit_options, None)
+    fit_pieces(
+        pieces,
+        index,
+        tolerance,
+        options,
+        &fit_options,
+        None,
+        &mut fitted,
+    )
 }
 
 /// Where a closed stroke's curve closes, for [`fit_piece`]: the point both of its ends are held
@@ -603,12 +614,20 @@ fn fit_closed(
     fit_options: &FitOptions,
     pieces: &[Piece],
     closure: &Closure,
+    fitted: &mut Vec<(Piece, CurveFit)>,
 ) -> Option<Vec<CurveFit>> {
     let closed = close_pieces(pieces.to_vec(), closure);
     let seam = match closure.kind {
         ClosureKind::Smooth => seam_pose(&closed, closure, tolerance),
         ClosureKind::Corner => None,
     };
+    // A seam bending tighter than the samples resolve (the smooth chain's curvature bound: a
+    // stroke stopping short of its start with its end turned away, a curl at its start) is no
+    // smooth closure, and a corner there is not what was drawn: the stroke is fitted open.
+    let bound = 1.0 / (crate::chain::smooth::MIN_RADIUS_TOLERANCES * tolerance);
+    if seam.is_some_and(|s| s.kappa.abs() > bound) {
+        return None;
+    }
     // A smooth closure whose seam cannot be read closes at the first sample, as a corner.
     let kind = if seam.is_some() {
         ClosureKind::Smooth
@@ -623,6 +642,7 @@ fn fit_closed(
         options,
         fit_options,
         Some(Closing { meet, seam }),
+        fitted,
     )
     .ok()?;
     // A closed curve that misses the tolerance, has fallen back to G1 where a smooth chain was
@@ -676,7 +696,8 @@ fn fit_closed(
 }
 
 /// Fits `pieces` in order, each through [`fit_piece`] (a piece too short for its tolerance, or
-/// folding back on itself, is cut at its sharpest vertex first).
+/// folding back on itself, is cut at its sharpest vertex first); a piece in `fitted` is taken
+/// from there, and every piece fitted without a seam end is added to it.
 fn fit_pieces(
     pieces: Vec<Piece>,
     index: usize,
@@ -684,12 +705,25 @@ fn fit_pieces(
     options: &PipelineOptions,
     fit_options: &FitOptions,
     closing: Option<Closing>,
+    fitted: &mut Vec<(Piece, CurveFit)>,
 ) -> Result<Vec<CurveFit>, PipelineError> {
     let mut pending = pieces;
     pending.reverse();
     let mut curves = Vec::with_capacity(pending.len());
     while let Some(piece) = pending.pop() {
-        match fit_piece(&piece, index, tolerance, options, fit_options, closing) {
+        // A piece fitted already (between a closed stroke's first and last pieces, whose closed
+        // fit was not taken) is the same fit: its ends do not depend on the closure.
+        let seam = piece.start == PieceEnd::Seam || piece.end == PieceEnd::Seam;
+        let known = fitted
+            .iter()
+            .find(|(p, _)| !seam && *p == piece)
+            .map(|(_, c)| Ok(c.clone()));
+        let result = known
+            .unwrap_or_else(|| fit_piece(&piece, index, tolerance, options, fit_options, closing));
+        if !seam && let Ok(curve) = &result {
+            fitted.push((piece.clone(), curve.clone()));
+        }
+        match result {
             // Fewer than four distinct points are fitted by a straight line (too few for a
             // cubic): where the line misses a sample by more than the tolerance, the samples turn
             // at a vertex the data show and the two sides are lines that hold every sample.

@@ -42,6 +42,9 @@ pub struct FitSettings {
     /// Screen pixels per document unit when the stroke was drawn (`None` for strokes read from
     /// a file, which get the unit's default).
     pub pixels_per_unit: Option<f64>,
+    /// Fit a stroke that comes back to its start as one closed curve (as
+    /// [`PipelineOptions::close`], default on: the CLI's `--close auto`).
+    pub close: bool,
 }
 
 /// Tolerance presets for strokes drawn in the app, in screen pixels at the zoom they were drawn
@@ -95,6 +98,7 @@ impl Default for FitSettings {
             continuity: pipeline.chain.continuity,
             screen: ScreenTolerance::default(),
             pixels_per_unit: None,
+            close: pipeline.close,
         }
     }
 }
@@ -111,6 +115,7 @@ impl FitSettings {
                 continuity: self.continuity,
                 ..ChainOptions::default()
             },
+            close: self.close,
             ..PipelineOptions::default()
         }
     }

@@ -264,6 +264,12 @@ pub fn settings(
             ui.radio_value(&mut s.continuity, c, c.name().to_uppercase());
         }
     });
+    ui.checkbox(&mut s.close, "close closed strokes")
+        .on_hover_text(
+            "A stroke that comes back to its start (stops near it, runs past it, goes round \
+         again) becomes one closed curve, its seam as smooth as its joints; off, it is fitted \
+         open (the CLI's --close never).",
+        );
     if ui.button("defaults").clicked() {
         s = FitSettings::default();
     }

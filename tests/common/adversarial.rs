@@ -432,10 +432,19 @@ pub fn check(case: &Case, result: &Result<Vec<CurveFit>, PipelineError>) -> Brea
                 }
             }
             if let Some((f, l)) = closure.folded {
+                // Against every piece of the stroke: the folded samples lie over the loop's
+                // start, on its first piece.
+                let every: Vec<&LacSegment> = curves
+                    .iter()
+                    .filter_map(|c| c.chain.as_ref())
+                    .flat_map(|c| c.segments.iter().map(|s| &s.segment))
+                    .collect();
+                let (all_lines, all_delta) = chain_polyline(&every, CHECK_CHORD_FRACTION * tol);
+                let slack = slack + all_delta;
                 let nearest = samples[f..=l.min(samples.len() - 1)]
                     .iter()
                     .map(|q| {
-                        lines
+                        all_lines
                             .iter()
                             .map(|line| polyline_distance(q.point(), line))
                             .fold(f64::INFINITY, f64::min)
@@ -444,7 +453,7 @@ pub fn check(case: &Case, result: &Result<Vec<CurveFit>, PipelineError>) -> Brea
                 let allowed = kansei::closure::FOLDED_TOLERANCES * tol;
                 if nearest - slack > allowed || closure.folded_deviation + slack < nearest {
                     breaks.guarantee.push(format!(
-                        "samples {a}..={b}: folded {f}..={l} lie {nearest} from the chain, \
+                        "samples {a}..={b}: folded {f}..={l} lie {nearest} from the curves, \
                          reported {}",
                         closure.folded_deviation
                     ));

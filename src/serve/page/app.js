@@ -14,7 +14,8 @@
   const canvas = $("ink");
   const ctx = canvas.getContext("2d");
   const ui = {
-    tolerance: $("tolerance"), continuity: $("continuity"), alphaMode: $("alpha-mode"),
+    tolerance: $("tolerance"), continuity: $("continuity"), close: $("close"),
+    alphaMode: $("alpha-mode"),
     alphaMin: $("alpha-min"), alphaMax: $("alpha-max"), alphaFixed: $("alpha-fixed"),
     comb: $("show-comb"), markers: $("show-markers"), ink: $("show-ink"),
     undo: $("undo"), redo: $("redo"), clear: $("clear"), hint: $("hint"),
@@ -40,6 +41,7 @@
     return {
       tolerance: parseFloat(ui.tolerance.value),
       continuity: ui.continuity.value,
+      close: ui.close.value,
       alphaMode: ui.alphaMode.value,
       alphaMin: parseFloat(ui.alphaMin.value),
       alphaMax: parseFloat(ui.alphaMax.value),
@@ -51,6 +53,7 @@
   function applySettings(s) {
     if (!s) return;
     if (Number.isFinite(s.tolerance)) ui.tolerance.value = s.tolerance;
+    if (s.close === "auto" || s.close === "never") ui.close.value = s.close;
     if (s.alphaMode) ui.alphaMode.value = s.alphaMode;
     if (Number.isFinite(s.alphaMin)) ui.alphaMin.value = s.alphaMin;
     if (Number.isFinite(s.alphaMax)) ui.alphaMax.value = s.alphaMax;
@@ -66,6 +69,7 @@
     const q = new URLSearchParams();
     if (Number.isFinite(s.tolerance) && s.tolerance > 0) q.set("tolerance", s.tolerance);
     q.set("continuity", s.continuity);
+    q.set("close", s.close);
     if (s.alphaMode === "fixed" && Number.isFinite(s.alphaFixed)) {
       q.set("alpha", s.alphaFixed);
     } else if (Number.isFinite(s.alphaMin) && Number.isFinite(s.alphaMax) && s.alphaMin <= s.alphaMax) {
@@ -625,7 +629,7 @@
     ui.alphaMin.hidden = fixed;
     ui.alphaMax.hidden = fixed;
   }
-  for (const el of [ui.tolerance, ui.continuity, ui.alphaMode, ui.alphaMin, ui.alphaMax, ui.alphaFixed]) {
+  for (const el of [ui.tolerance, ui.continuity, ui.close, ui.alphaMode, ui.alphaMin, ui.alphaMax, ui.alphaFixed]) {
     el.addEventListener("change", () => { showAlphaInputs(); save(); refitSoon(); });
   }
   for (const el of [ui.comb, ui.markers, ui.ink]) {
