@@ -50,6 +50,12 @@ pub struct PipelineOptions {
     pub lac: bool,
     /// Options of the chain stage (defaults: [`ChainOptions::default`]).
     pub chain: ChainOptions,
+    /// The tolerance a stroke's dwell, hooks and corners are read at ([`prepare`]). Default
+    /// `None`: the fit's tolerance. The tolerance ladder ([`fit_on_ladder`]) reads them at the
+    /// stroke's own tolerance on every rung: corners are what the samples show, and read at a
+    /// looser tolerance (a window of 8 tolerances) a smooth turn became one, so loosening added
+    /// pieces (the scribble fixture: 12 pieces at 1 px, 25 at 8).
+    pub prepare_tolerance: Option<f64>,
     /// Fit a stroke that comes back to its start as a closed curve ([`crate::closure`]).
     /// Default true (the CLI's `--close auto`); off (`--close never`), every stroke is fitted
     /// open. Closure needs the chain ([`PipelineOptions::lac`]): its folded samples are
@@ -71,6 +77,7 @@ impl Default for PipelineOptions {
             split: SplitOptions::default(),
             lac: true,
             chain: ChainOptions::default(),
+            prepare_tolerance: None,
             close: true,
         }
     }
@@ -504,6 +511,12 @@ pub fn fit_on_ladder(
     let mut best: Option<(usize, Vec<CurveFit>)> = None;
     let mut closest: Option<(f64, Vec<CurveFit>)> = None;
     let mut last_failure = None;
+    // Every rung reads the stroke's corners at its own tolerance (see
+    // [`PipelineOptions::prepare_tolerance`]): the same pieces on every rung.
+    let options = &PipelineOptions {
+        prepare_tolerance: Some(chosen.own),
+        ..options.clone()
+    };
     for &rung in rungs.iter().rev() {
         match fit_one(stroke, index, rung, options) {
             StrokeOutcome::Curves(curves) if holds(&curves) => {
@@ -554,16 +567,20 @@ pub fn fit_stroke(
         .with_max_segments(options.max_segments)
         .with_fairing(options.fair)
         .with_search(options.search);
+    let read_at = options
+        .prepare_tolerance
+        .filter(|t| t.is_finite() && *t > 0.0)
+        .unwrap_or(tolerance);
     let dwell = if options.keep_hooks {
         // Keeping the pen's landing and lifting as drawn keeps its dwell too.
         DwellOptions {
             min_samples: usize::MAX,
-            ..DwellOptions::for_tolerance(tolerance)
+            ..DwellOptions::for_tolerance(read_at)
         }
     } else {
-        DwellOptions::for_tolerance(tolerance)
+        DwellOptions::for_tolerance(read_at)
     };
-    let pieces: Vec<Piece> = prepare(stroke, &options.corner_options(tolerance), &dwell);
+    let pieces: Vec<Piece> = prepare(stroke, &options.corner_options(read_at), &dwell);
     // The pieces fitted so far, by piece (a closed fit not taken leaves its inner pieces).
     let mut fitted = Vec::new();
     if options.close && options.lac {

@@ -1,7 +1,9 @@
-//! Loosening the tolerance never adds segments: every fixture stroke fitted at a ladder of
-//! tolerances from its own (the default: the unit's, raised to its noise floor) up to three
-//! times it, between and on the fitter's rungs, has a segment count that never rises; where the
-//! stroke's own fit holds its tolerance, every looser fit holds the one it was asked for.
+//! Loosening the tolerance never adds segments nor pieces: every fixture stroke fitted at a
+//! ladder of tolerances from its own (the default: the unit's, raised to its noise floor) up to
+//! three times it, between and on the fitter's rungs, has a segment count and a piece count that
+//! never rise (the pieces: its corners are read at its own tolerance on every rung); where the
+//! stroke's own fit holds its tolerance, every looser fit holds the one it was asked for. The
+//! scribble fixture keeps its pieces up to eight times its tolerance.
 
 use std::path::Path;
 
@@ -42,12 +44,12 @@ fn loosening_the_tolerance_never_adds_segments_on_any_fixture_stroke() {
             let own = PipelineOptions::default()
                 .stroke_tolerance(stroke, file.units)
                 .own;
-            let mut previous: Option<(f64, usize)> = None;
+            let mut previous: Option<(f64, usize, usize)> = None;
             let mut own_held = None;
             for factor in FACTORS {
                 let tolerance = own * factor;
                 let options = PipelineOptions::default().with_tolerance(tolerance);
-                let segments = match fit_with_noise(stroke, index, file.units, &options) {
+                let (segments, pieces) = match fit_with_noise(stroke, index, file.units, &options) {
                     StrokeOutcome::Curves(curves) => {
                         let mut held = true;
                         for c in &curves {
@@ -73,14 +75,15 @@ fn loosening_the_tolerance_never_adds_segments_on_any_fixture_stroke() {
                             Some(true) => assert!(held, "{name} stroke {index} at {tolerance}"),
                             Some(false) => {}
                         }
-                        curves
+                        let segments = curves
                             .iter()
                             .map(|c| c.chain.as_ref().map_or(0, |ch| ch.segments.len()))
-                            .sum()
+                            .sum();
+                        (segments, curves.len())
                     }
                     StrokeOutcome::Dot(_) => {
                         own_held.get_or_insert(true);
-                        0
+                        (0, 0)
                     }
                     StrokeOutcome::Failed(f) => {
                         // Strokes the default cannot fit are not this test's subject.
@@ -88,16 +91,55 @@ fn loosening_the_tolerance_never_adds_segments_on_any_fixture_stroke() {
                         break;
                     }
                 };
-                if let Some((t, n)) = previous {
+                if let Some((t, n, p)) = previous {
                     assert!(
                         segments <= n,
                         "{name} stroke {index}: {n} segments at {t}, {segments} at {tolerance}"
                     );
+                    assert!(
+                        pieces <= p,
+                        "{name} stroke {index}: {p} pieces at {t}, {pieces} at {tolerance}"
+                    );
                 }
-                previous = Some((tolerance, segments));
+                previous = Some((tolerance, segments, pieces));
             }
             strokes += 1;
         }
     }
     assert!(strokes > 50, "only {strokes} strokes");
+}
+
+/// The scribble fixture (issue 44: 12 pieces at 1 px, 16 at 2, 17 at 4, with new corners at
+/// smooth turns) keeps its pieces from 1 px to 8 px, and its segments never rise.
+#[test]
+fn loosening_the_scribble_keeps_its_pieces() {
+    let path = Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("fixtures/strokes/perfect-freehand-scribble.json");
+    let text = std::fs::read_to_string(&path).expect("readable fixture");
+    let file = StrokeFile::read_json(&text).expect("fixture parses");
+    let mut previous: Option<(f64, usize, usize)> = None;
+    for tolerance in [1.0, 2.0, 4.0, 8.0] {
+        let options = PipelineOptions::default().with_tolerance(tolerance);
+        let StrokeOutcome::Curves(curves) =
+            fit_with_noise(&file.strokes[0], 0, file.units, &options)
+        else {
+            panic!("the scribble is a curve at {tolerance}");
+        };
+        let segments: usize = curves
+            .iter()
+            .map(|c| c.chain.as_ref().map_or(0, |ch| ch.segments.len()))
+            .sum();
+        if let Some((t, n, p)) = previous {
+            assert!(
+                curves.len() <= p,
+                "{p} pieces at {t}, {} at {tolerance}",
+                curves.len()
+            );
+            assert!(
+                segments <= n,
+                "{n} segments at {t}, {segments} at {tolerance}"
+            );
+        }
+        previous = Some((tolerance, segments, curves.len()));
+    }
 }
