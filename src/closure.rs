@@ -493,6 +493,11 @@ mod tests {
         }
     }
 
+    /// `f` at n + 1 parameters evenly over [0, 2π].
+    fn one_turn(n: usize, f: impl Fn(f64) -> Point) -> Vec<Point> {
+        (0..=n).map(|i| f(TAU * i as f64 / n as f64)).collect()
+    }
+
     /// A circle from (radius, 0), `per_turn` samples a turn (not a whole number: no sample of
     /// the second round lies exactly on the first).
     fn circle(turns: f64, per_turn: f64, radius: f64) -> Vec<Point> {
@@ -555,12 +560,9 @@ mod tests {
     fn a_teardrop_closes_at_a_corner() {
         // x = cos t, y = sin t·sin(t/2): leaves its tip at 135° and comes back at 45°.
         let n = 200;
-        let points: Vec<Point> = (0..=n)
-            .map(|i| {
-                let t = TAU * i as f64 / n as f64;
-                Point::new(100.0 * t.cos(), 100.0 * t.sin() * (0.5 * t).sin())
-            })
-            .collect();
+        let points = one_turn(n, |t| {
+            Point::new(100.0 * t.cos(), 100.0 * t.sin() * (0.5 * t).sin())
+        });
         let c = find_closure(&[piece(points)], 0.5, 70f64.to_radians()).expect("closed");
         assert_eq!(c.kind, ClosureKind::Corner);
         assert_eq!((c.last, c.folded), ((0, n), None));
@@ -570,13 +572,10 @@ mod tests {
     #[test]
     fn a_figure_eight_crossing_is_not_its_closure() {
         let n = 200;
-        let points: Vec<Point> = (0..=n)
-            .map(|i| {
-                let t = TAU * i as f64 / n as f64;
-                // Gerono's lemniscate from its crossing.
-                Point::new(100.0 * t.sin(), 100.0 * t.sin() * t.cos())
-            })
-            .collect();
+        // Gerono's lemniscate from its crossing.
+        let points = one_turn(n, |t| {
+            Point::new(100.0 * t.sin(), 100.0 * t.sin() * t.cos())
+        });
         let c = find_closure(&[piece(points)], 0.5, 70f64.to_radians()).expect("closed");
         assert_eq!(c.kind, ClosureKind::Smooth);
         assert!(c.last.1 >= n - 2, "{:?}", c.last);
