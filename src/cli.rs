@@ -648,18 +648,6 @@ fn fit(args: &FitArgs, out: &mut dyn std::io::Write) -> Result<(), CliError> {
         )));
     }
     let several = args.inputs.len() > 1;
-    // Every output's directory is checked (with several inputs, made) before anything is
-    // written: a mistyped directory leaves no other output behind.
-    for dir in [&args.json, &args.svg, &args.dxf, &args.png]
-        .into_iter()
-        .flatten()
-    {
-        if several {
-            crate::io::create_output_dir(dir)?;
-        } else {
-            crate::io::check_output(dir)?;
-        }
-    }
     let target = |input: &Path, path: &PathBuf, extension: &str| -> PathBuf {
         if several {
             let stem = input
@@ -673,6 +661,54 @@ fn fit(args: &FitArgs, out: &mut dyn std::io::Write) -> Result<(), CliError> {
     };
     if args.jobs == Some(0) {
         return Err(CliError::Usage("--jobs must be at least 1".into()));
+    }
+    // No output may replace an input, nor another output: refused before anything is written.
+    let mut planned: Vec<(PathBuf, &Path, Format)> = Vec::new();
+    for input in &args.inputs {
+        let outputs = [
+            (&args.json, Format::Json),
+            (&args.svg, Format::Svg),
+            (&args.dxf, Format::Dxf),
+            (&args.png, Format::Png),
+        ];
+        for (path, format) in outputs {
+            let Some(path) = path else { continue };
+            let path = target(input, path, format.extension());
+            if let Some(replaced) = args.inputs.iter().find(|i| crate::io::same_file(i, &path)) {
+                return Err(CliError::Usage(format!(
+                    "{} would replace the input {}: choose another output path",
+                    path.display(),
+                    replaced.display()
+                )));
+            }
+            if let Some((_, other, was)) = planned
+                .iter()
+                .find(|(p, _, _)| crate::io::same_file(p, &path))
+            {
+                return Err(CliError::Usage(format!(
+                    "the {} of {} and the {} of {} would both be written to {}: give the \
+                     outputs distinct paths (inputs of the same name in one run: separate runs)",
+                    was.extension(),
+                    other.display(),
+                    format.extension(),
+                    input.display(),
+                    path.display()
+                )));
+            }
+            planned.push((path, input, format));
+        }
+    }
+    // Every output's directory is checked (with several inputs, made) before anything is
+    // written: a mistyped directory leaves no other output behind.
+    for dir in [&args.json, &args.svg, &args.dxf, &args.png]
+        .into_iter()
+        .flatten()
+    {
+        if several {
+            crate::io::create_output_dir(dir)?;
+        } else {
+            crate::io::check_output(dir)?;
+        }
     }
     // Every input is read first; one that cannot be read is reported and the others are still
     // fitted and written (the run then exits 1 with the first such error).

@@ -294,6 +294,25 @@ fn existing_parent(path: &Path) -> Result<&Path, FileError> {
     }
 }
 
+/// Whether `a` and `b` name the same file: the same path, or the same canonical path (for a
+/// file that does not exist yet, its directory's canonical path and its name), so that
+/// `out.json`, `./out.json` and a link to it are one file.
+pub fn same_file(a: &Path, b: &Path) -> bool {
+    if a == b {
+        return true;
+    }
+    let canonical = |p: &Path| -> Option<std::path::PathBuf> {
+        std::fs::canonicalize(p).ok().or_else(|| {
+            let parent = p
+                .parent()
+                .filter(|d| !d.as_os_str().is_empty())
+                .unwrap_or(Path::new("."));
+            Some(std::fs::canonicalize(parent).ok()?.join(p.file_name()?))
+        })
+    };
+    matches!((canonical(a), canonical(b)), (Some(x), Some(y)) if x == y)
+}
+
 /// Checks that `path` can be an output: its directory exists. `kansei fit` calls it for every
 /// output before it writes anything, so that a mistyped directory leaves no other output
 /// behind.

@@ -220,6 +220,62 @@ fn fit_writes_one_file_per_input_into_a_directory() {
     let _ = std::fs::remove_dir_all(dir);
 }
 
+/// An output that would replace an input, or another output, is refused before anything is
+/// written (exit 2): the input stays byte for byte, and no other output appears.
+#[test]
+fn no_output_replaces_an_input_or_another_output() {
+    let dir = std::env::temp_dir().join(format!("kansei-cli-clobber-{}", std::process::id()));
+    let (a, b) = (dir.join("a"), dir.join("b"));
+    std::fs::create_dir_all(&a).expect("dir a");
+    std::fs::create_dir_all(&b).expect("dir b");
+    let original = std::fs::read(fixture("perfect-freehand-waves")).expect("fixture");
+    let input = a.join("x.json");
+    std::fs::write(&input, &original).expect("copied");
+    std::fs::copy(fixture("google-ink-straight-line"), b.join("x.json")).expect("copied");
+    // The input as its own output, by the same path and by another spelling of it.
+    for output in [input.clone(), a.join(".").join("x.json")] {
+        let run = kansei()
+            .args(["fit"])
+            .arg(&input)
+            .arg("--svg")
+            .arg(dir.join("x.svg"))
+            .arg("--json")
+            .arg(&output)
+            .output()
+            .expect("runs");
+        assert_eq!(run.status.code(), Some(2), "{run:?}");
+        assert!(String::from_utf8_lossy(&run.stderr).contains("would replace the input"));
+        assert_eq!(std::fs::read(&input).expect("still there"), original);
+        assert!(!dir.join("x.svg").exists(), "nothing written");
+    }
+    // Two inputs named alike into one directory.
+    let out = dir.join("out");
+    let run = kansei()
+        .args(["fit"])
+        .arg(&input)
+        .arg(b.join("x.json"))
+        .arg("--json")
+        .arg(&out)
+        .output()
+        .expect("runs");
+    assert_eq!(run.status.code(), Some(2), "{run:?}");
+    assert!(String::from_utf8_lossy(&run.stderr).contains("would both be written"));
+    assert!(!out.exists(), "nothing written, not even the directory");
+    // Two formats to one path.
+    let run = kansei()
+        .args(["fit"])
+        .arg(&input)
+        .arg("--json")
+        .arg(dir.join("same"))
+        .arg("--svg")
+        .arg(dir.join("same"))
+        .output()
+        .expect("runs");
+    assert_eq!(run.status.code(), Some(2), "{run:?}");
+    assert!(!dir.join("same").exists());
+    let _ = std::fs::remove_dir_all(dir);
+}
+
 #[test]
 fn exit_codes_say_what_happened_and_one_bad_stroke_costs_no_other() {
     use kansei::cli::{EXIT_FILE, EXIT_STROKES_FAILED, EXIT_USAGE};
