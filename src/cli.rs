@@ -313,6 +313,15 @@ pub enum CliError {
     /// Bad arguments.
     #[error("{0}")]
     Usage(String),
+    /// Some inputs could not be read (each was reported as it was met); the others were
+    /// fitted and written.
+    #[error("{unreadable} of {inputs} inputs could not be read (each named above)")]
+    Unreadable {
+        /// Inputs that could not be read.
+        unreadable: usize,
+        /// Inputs given.
+        inputs: usize,
+    },
     /// Some strokes could not be fitted; everything else was written, with an error record
     /// for each of those strokes.
     #[error(
@@ -711,15 +720,15 @@ fn fit(args: &FitArgs, out: &mut dyn std::io::Write) -> Result<(), CliError> {
         }
     }
     // Every input is read first; one that cannot be read is reported and the others are still
-    // fitted and written (the run then exits 1 with the first such error).
-    let mut unreadable = Vec::new();
+    // fitted and written (the run then exits 1, counting them: each is named once).
+    let mut unreadable = 0;
     let mut read = Vec::new();
     for input in &args.inputs {
         match read_strokes(input) {
             Ok(file) => read.push((input, file)),
             Err(e) => {
                 eprintln!("error: {e}");
-                unreadable.push(e);
+                unreadable += 1;
             }
         }
     }
@@ -824,8 +833,11 @@ fn fit(args: &FitArgs, out: &mut dyn std::io::Write) -> Result<(), CliError> {
             }
         }
     }
-    if let Some(first) = unreadable.into_iter().next() {
-        return Err(first.into());
+    if unreadable > 0 {
+        return Err(CliError::Unreadable {
+            unreadable,
+            inputs: args.inputs.len(),
+        });
     }
     if failed > 0 {
         return Err(CliError::StrokesFailed { failed, strokes });

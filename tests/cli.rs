@@ -276,6 +276,30 @@ fn no_output_replaces_an_input_or_another_output() {
     let _ = std::fs::remove_dir_all(dir);
 }
 
+/// An input that cannot be read is named once on stderr (not once as it is met and again at
+/// exit), the run exits 1 saying how many, and the readable input is still fitted.
+#[test]
+fn an_unreadable_input_is_named_once_and_costs_no_other() {
+    let missing = "kansei-no-such-input.json";
+    let run = kansei()
+        .args(["fit", missing, &fixture("perfect-freehand-waves")])
+        .output()
+        .expect("runs");
+    assert_eq!(run.status.code(), Some(1), "{run:?}");
+    let stderr = String::from_utf8_lossy(&run.stderr);
+    assert_eq!(stderr.matches(missing).count(), 1, "{stderr}");
+    assert!(
+        stderr.contains("1 of 2 inputs could not be read"),
+        "{stderr}"
+    );
+    let stdout = String::from_utf8_lossy(&run.stdout);
+    assert_eq!(
+        stdout.lines().count(),
+        1,
+        "one document for the readable input"
+    );
+}
+
 #[test]
 fn exit_codes_say_what_happened_and_one_bad_stroke_costs_no_other() {
     use kansei::cli::{EXIT_FILE, EXIT_STROKES_FAILED, EXIT_USAGE};
