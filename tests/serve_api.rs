@@ -72,6 +72,10 @@ fn health_says_ok_and_the_version() {
     let missing = http::get(s.addr(), "/v2/fit").expect("answers");
     assert_eq!(missing.status, 404);
     assert!(missing.error().contains("/v2/fit"));
+    // A known endpoint asked with a method it does not take: a 405 with a JSON error body too.
+    let wrong = http::get(s.addr(), "/v1/fit").expect("answers");
+    assert_eq!(wrong.status, 405);
+    assert!(wrong.error().contains("/v1/fit"), "{}", wrong.error());
 }
 
 #[test]

@@ -55,6 +55,7 @@ pub fn router(options: &ServeOptions, shutdown: tokio::sync::watch::Receiver<boo
         .route("/v1/export/png", post(export_png))
         .route("/v1/stream", get(stream::upgrade))
         .fallback(not_found)
+        .method_not_allowed_fallback(method_not_allowed)
         .layer(axum::middleware::from_fn_with_state(
             options.max_body_bytes,
             declared_length,
@@ -112,6 +113,15 @@ async fn not_found(method: Method, uri: Uri) -> ApiError {
     ApiError::new(
         StatusCode::NOT_FOUND,
         format!("no endpoint {method} {}; see docs/service.md", uri.path()),
+    )
+}
+
+/// `405` with a JSON error body, as every other error (an endpoint asked with a method it does
+/// not take: `GET /v1/fit`).
+async fn method_not_allowed(method: Method, uri: Uri) -> ApiError {
+    ApiError::new(
+        StatusCode::METHOD_NOT_ALLOWED,
+        format!("{} does not take {method}; see docs/service.md", uri.path()),
     )
 }
 
