@@ -368,6 +368,28 @@ fn the_pen_page_fits_a_pen_stroke_like_the_api() {
         std::path::Path::new(env!("CARGO_TARGET_TMPDIR")).join("serve_browser_comb.png"),
         base64(shot["data"].as_str().expect("screenshot data")),
     );
+
+    // The tolerance starts empty (auto: each stroke's own, as the API's default the first
+    // stroke was compared with), and every setting changed is restored on reload.
+    assert_eq!(
+        page.eval("document.getElementById('tolerance').value"),
+        json!("")
+    );
+    page.eval(
+        "for (const [id, v] of [['continuity', 'c3'], ['close', 'never'], ['tolerance', '1.5']]) { \
+         const el = document.getElementById(id); el.value = v; \
+         el.dispatchEvent(new Event('change')); } true",
+    );
+    page.call("Page.reload", json!({}));
+    page.wait_for("window.kansei !== undefined && window.kansei.ready === true");
+    for (id, value) in [
+        ("continuity", "c3"),
+        ("close", "never"),
+        ("tolerance", "1.5"),
+    ] {
+        let shown = page.eval(&format!("document.getElementById('{id}').value"));
+        assert_eq!(shown, json!(value), "{id} restored on reload");
+    }
 }
 
 /// Decodes standard base64 (what the DevTools protocol sends screenshots in).

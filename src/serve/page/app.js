@@ -52,7 +52,9 @@
 
   function applySettings(s) {
     if (!s) return;
-    if (Number.isFinite(s.tolerance)) ui.tolerance.value = s.tolerance;
+    // No tolerance saved (auto) leaves the field empty: each stroke's own.
+    ui.tolerance.value = Number.isFinite(s.tolerance) && s.tolerance > 0 ? s.tolerance : "";
+    if (["g1", "g2", "c3"].includes(s.continuity)) ui.continuity.value = s.continuity;
     if (s.close === "auto" || s.close === "never") ui.close.value = s.close;
     if (s.alphaMode) ui.alphaMode.value = s.alphaMode;
     if (Number.isFinite(s.alphaMin)) ui.alphaMin.value = s.alphaMin;
