@@ -162,7 +162,21 @@ fn parse_size(text: &str) -> Result<(u32, u32), String> {
         .split_once(['x', 'X', '×'])
         .ok_or_else(|| format!("expected WIDTHxHEIGHT, got {text:?}"))?;
     let parse = |x: &str| x.trim().parse::<u32>().map_err(|e| format!("{x:?}: {e}"));
-    Ok((parse(w)?, parse(h)?))
+    let (w, h) = (parse(w)?, parse(h)?);
+    // The render's own limits, checked here so that a bad size is a usage error (exit 2).
+    use crate::render::{MAX_IMAGE_PIXELS, MAX_IMAGE_SIDE};
+    if w == 0 || h == 0 {
+        return Err(format!(
+            "the image must be at least 1×1 pixels, got {w}×{h}"
+        ));
+    }
+    if w > MAX_IMAGE_SIDE || h > MAX_IMAGE_SIDE || u64::from(w) * u64::from(h) > MAX_IMAGE_PIXELS {
+        return Err(format!(
+            "the image {w}×{h} is too large (at most {MAX_IMAGE_SIDE} pixels a side and \
+             {MAX_IMAGE_PIXELS} pixels)"
+        ));
+    }
+    Ok((w, h))
 }
 
 /// Parses a corner angle: degrees from 0 (every turn is a corner) to 180 (none is).

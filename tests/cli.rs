@@ -300,6 +300,28 @@ fn an_unreadable_input_is_named_once_and_costs_no_other() {
     );
 }
 
+/// A PNG size the render cannot draw is a bad option value: exit 2, as the README says, and no
+/// file is written.
+#[test]
+fn a_png_size_out_of_range_is_a_usage_error() {
+    for size in ["0x10", "10x0", "20000x10", "10000x10000"] {
+        let png = std::env::temp_dir().join(format!("kansei-cli-size-{}.png", std::process::id()));
+        let run = kansei()
+            .args([
+                "fit",
+                &fixture("perfect-freehand-waves"),
+                "--size",
+                size,
+                "--png",
+            ])
+            .arg(&png)
+            .output()
+            .expect("runs");
+        assert_eq!(run.status.code(), Some(2), "{size}: {run:?}");
+        assert!(!png.exists(), "{size}: nothing written");
+    }
+}
+
 #[test]
 fn exit_codes_say_what_happened_and_one_bad_stroke_costs_no_other() {
     use kansei::cli::{EXIT_FILE, EXIT_STROKES_FAILED, EXIT_USAGE};
