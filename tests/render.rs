@@ -643,7 +643,7 @@ fn bad_views_and_options_are_typed_errors() {
 }
 
 #[test]
-fn cli_writes_the_png_at_the_requested_size_and_names_the_file_on_error() {
+fn cli_writes_the_png_at_the_requested_size_and_refuses_a_size_it_cannot_draw() {
     let dir = std::env::temp_dir().join(format!("kansei-render-{}", std::process::id()));
     std::fs::create_dir_all(&dir).expect("temp dir");
     let png = dir.join("spring.png");
@@ -671,12 +671,14 @@ fn cli_writes_the_png_at_the_requested_size_and_names_the_file_on_error() {
     let image = Pixmap::load_png(&png).expect("a PNG");
     assert_eq!((image.width(), image.height()), (320, 200));
     assert!(inked(&image).iter().filter(|&&i| i).count() > 500);
+    // A size the render cannot draw is a bad option value: exit 2, naming the option and the
+    // size, and nothing written.
     let bad = dir.join("bad.png");
     let out = run("0x200", &bad);
-    assert!(!out.status.success());
+    assert_eq!(out.status.code(), Some(2));
     let stderr = String::from_utf8_lossy(&out.stderr);
     assert!(
-        stderr.contains("bad.png") && stderr.contains("0×200"),
+        stderr.contains("--size") && stderr.contains("0×200"),
         "{stderr}"
     );
     assert!(!bad.exists());
