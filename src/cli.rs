@@ -213,19 +213,21 @@ impl FitSettings {
 /// `kansei fit`.
 #[derive(Debug, Args)]
 pub struct FitArgs {
-    /// kansei-stroke JSON files.
+    /// Strokes to fit, each file read by its extension: hid-recorder `.hid`, W3C InkML
+    /// `.inkml`, evemu `.events`/`.evemu`, Quick Draw `.ndjson`, and `kansei-stroke` JSON
+    /// (anything else).
     #[arg(required = true)]
     pub inputs: Vec<PathBuf>,
     /// Threads fitting the strokes of all inputs [default: every core].
     #[arg(long)]
     pub jobs: Option<usize>,
-    /// Write kansei-curve JSON here instead of stdout. With several inputs, a directory that
-    /// receives `<input stem>.curve.json` for each.
+    /// Write kansei-curve JSON here instead of stdout. With several inputs, or naming a
+    /// directory that exists, a directory that receives `<input stem>.curve.json` for each.
     #[arg(long)]
     pub json: Option<PathBuf>,
     /// Also write an SVG: one path per stroke, lines and arcs exact, spirals as cubic
-    /// Béziers within --export-accuracy. With several inputs, a directory that receives
-    /// `<input stem>.svg` for each.
+    /// Béziers within --export-accuracy. With several inputs, or naming a directory that
+    /// exists, a directory that receives `<input stem>.svg` for each.
     #[arg(long)]
     pub svg: Option<PathBuf>,
     /// Extra SVG layers, comma-separated: samples, bspline, alpha (segments coloured by α),
@@ -233,7 +235,8 @@ pub struct FitArgs {
     #[arg(long, value_delimiter = ',', value_parser = SvgLayers::NAMES)]
     pub svg_layers: Vec<String>,
     /// Also write a DXF: one degree-3 SPLINE per fitted piece, within --export-accuracy. With
-    /// several inputs, a directory that receives `<input stem>.dxf` for each.
+    /// several inputs, or naming a directory that exists, a directory that receives
+    /// `<input stem>.dxf` for each.
     #[arg(long)]
     pub dxf: Option<PathBuf>,
     /// Largest distance between the exported SVG/DXF curves and the exact LAC chain, in the
@@ -242,7 +245,8 @@ pub struct FitArgs {
     pub export_accuracy: Option<f64>,
     /// Also write a PNG (by default samples, B-spline, split markers, LAC segments coloured by
     /// α, LAC joints, legend, scale bar; see --png-layers), drawn by the `render` module. With several
-    /// inputs, a directory that receives `<input stem>.png` for each.
+    /// inputs, or naming a directory that exists, a directory that receives `<input stem>.png`
+    /// for each.
     #[arg(long)]
     pub png: Option<PathBuf>,
     /// The PNG's overlays, comma-separated, drawn instead of the default set (samples, bspline,
@@ -671,8 +675,10 @@ fn fit(args: &FitArgs, out: &mut dyn std::io::Write) -> Result<(), CliError> {
         )));
     }
     let several = args.inputs.len() > 1;
+    // An output naming a directory that exists receives `<stem>.<extension>` there, with one
+    // input as with several.
     let target = |input: &Path, path: &PathBuf, extension: &str| -> PathBuf {
-        if several {
+        if several || path.is_dir() {
             let stem = input
                 .file_stem()
                 .map(|s| s.to_string_lossy())

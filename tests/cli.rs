@@ -300,6 +300,26 @@ fn an_unreadable_input_is_named_once_and_costs_no_other() {
     );
 }
 
+/// One input with an output naming a directory that exists: the directory receives
+/// `<stem>.curve.json` (and `<stem>.svg`), as with several inputs.
+#[test]
+fn one_input_into_an_existing_directory_writes_there() {
+    let dir = std::env::temp_dir().join(format!("kansei-cli-onedir-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).expect("dir");
+    run_ok(
+        kansei()
+            .args(["fit", &fixture("perfect-freehand-waves"), "--json"])
+            .arg(&dir)
+            .arg("--svg")
+            .arg(&dir),
+    );
+    let text = std::fs::read_to_string(dir.join("perfect-freehand-waves.curve.json"))
+        .expect("written into the directory");
+    kansei::export::CurveFile::from_json(&text).expect("valid");
+    assert!(dir.join("perfect-freehand-waves.svg").exists());
+    let _ = std::fs::remove_dir_all(dir);
+}
+
 /// A PNG size the render cannot draw is a bad option value: exit 2, as the README says, and no
 /// file is written.
 #[test]
