@@ -28,10 +28,8 @@
 
 use crate::bspline::project::Pieces;
 use crate::bspline::{FitOptions, fit_bspline};
-use crate::chain::{ChainSegment, SeamPose, traced_distance};
+use crate::chain::{ChainSegment, Resolution, SeamPose, distance_on};
 use crate::geom::{Point, Vec2, cumulative_lengths};
-use crate::lac::deviation;
-use crate::lac::deviation::trace;
 use crate::prepare::{Piece, PieceEnd};
 
 /// The closing radius's part in tolerances: a stroke that ends within three tolerances of its
@@ -277,17 +275,20 @@ pub fn find_closure(pieces: &[Piece], tolerance: f64, corner_angle: f64) -> Opti
     None
 }
 
-/// Whether every point of `after` lies within `allowance` of the closed polyline `loop_points`
-/// (its last point joined back to its first), each near the loop's part a little ahead of the
-/// last one's (the ordered search of [`folded_deviation`]).
-fn follows_loop(loop_points: &[Point], after: &[Point], allowance: f64) -> bool {
+/// For each point of `after`, in order, its partner on the closed polyline `loop_points` (its
+/// last point joined back to its first): the nearest edge among those a little ahead of the last
+/// point's partner ([`PARTNER_REACH_SHARE`] of the loop), as the index of the edge's first
+/// point, and the distance to it. Ordered so, a second round maps onto the first and a point
+/// never finds a partner on another part of the loop that passes near it. The first point's
+/// partner is among the loop's first edges (what follows a loop starts past its start).
+fn ordered_partners<'a>(
+    loop_points: &'a [Point],
+    after: impl IntoIterator<Item = &'a Point> + 'a,
+) -> impl Iterator<Item = (usize, f64)> + 'a {
     let m = loop_points.len();
-    if m < 2 {
-        return after.is_empty();
-    }
     let reach = ((PARTNER_REACH_SHARE * m as f64) as usize).max(2);
     let mut partner = 0;
-    for &q in after {
+    after.into_iter().map(move |&q| {
         let (best, distance) = (0..=reach)
             .map(|d| {
                 let i = (partner + d) % m;
@@ -296,12 +297,18 @@ fn follows_loop(loop_points: &[Point], after: &[Point], allowance: f64) -> bool 
             })
             .min_by(|x, y| x.1.total_cmp(&y.1))
             .unwrap_or((partner, f64::INFINITY));
-        if distance > allowance {
-            return false;
-        }
         partner = best;
+        (best, distance)
+    })
+}
+
+/// Whether every point of `after` lies within `allowance` of the closed polyline `loop_points`
+/// (each near its [`ordered_partners`] edge).
+fn follows_loop(loop_points: &[Point], after: &[Point], allowance: f64) -> bool {
+    if loop_points.len() < 2 {
+        return after.is_empty();
     }
-    true
+    ordered_partners(loop_points, after).all(|(_, distance)| distance <= allowance)
 }
 
 /// The closure whose loop ends at flattened point `e`.
@@ -376,10 +383,12 @@ pub fn seam_pose(pieces: &[Piece], closure: &Closure, tolerance: f64) -> Option<
     if head.len() < 2 || tail.len() < 2 {
         return None;
     }
-    let mut points = tail.clone();
-    points.extend(head.iter().copied());
+    // The first sample's index in the window: the tail, then the head.
+    let start = tail.len();
+    let mut points = tail;
+    points.extend(head);
     let fit = fit_bspline(&points, &FitOptions::new(tolerance)).ok()?;
-    let at = *fit.params.get(tail.len())?;
+    let at = *fit.params.get(start)?;
     let curve = Pieces::new(fit.curve.to_beziers());
     let foot = curve.project_local(first.points[0], at);
     let (point, d1, d2) = curve.eval_derivs(foot.u);
@@ -403,23 +412,18 @@ pub fn seam_pose(pieces: &[Piece], closure: &Closure, tolerance: f64) -> Option<
 /// fitted open.
 pub const FOLDED_TOLERANCES: f64 = 2.0;
 
-/// Chord error of the folded samples' distances, as a fraction of the tolerance (the chain's
-/// own measure uses the same, `chain::measure::Resolution`).
-const FOLDED_CHORD_FRACTION: f64 = 1e-3;
-
-/// Points of the loop ahead of a folded sample's last partner among which its next partner is
-/// sought ([`folded_deviation`]), as a share of the loop's points: far more than the pen moves
+/// Edges of the loop ahead of a point's last partner among which its next partner is sought
+/// ([`ordered_partners`]), as a share of the loop's points: far more than the pen moves
 /// between two samples, far less than a loop.
 const PARTNER_REACH_SHARE: f64 = 0.125;
 
 /// The largest distance from a folded sample ([`Closure::folded`]) to the closed curve, each
 /// measured as the honest measure measures a sample (its own segment, or a neighbour): a
-/// folded sample's own segment is the one holding its partner, the loop's point nearest it
-/// among those a little ahead of the last folded sample's partner (in order along the loop,
-/// round and round: a second round maps onto the first, and a sample never finds a partner
-/// on another part of the loop that passes near it). `samples`: the stroke's sample positions
-/// by original index; `pieces`: the closed curve's pieces in order; `chains`: each piece's
-/// fitted segments. 0 without folded samples; +∞ where a folded sample finds no segment.
+/// folded sample's own segment is the one holding the first point of its partner edge on the
+/// loop, the nearest edge among those a little ahead of the last folded sample's partner (in
+/// order round the loop: a second round maps onto the first). `samples`: the stroke's sample
+/// positions by original index; `pieces`: the closed curve's pieces in order; `chains`: each
+/// piece's fitted segments. 0 without folded samples; +∞ where a folded sample finds no segment.
 pub fn folded_deviation(
     samples: &[Point],
     closure: &Closure,
@@ -431,8 +435,7 @@ pub fn folded_deviation(
         return 0.0;
     };
     let (points, from) = flatten(pieces);
-    let m = points.len();
-    if m == 0 || b >= samples.len() || a > b || pieces.len() != chains.len() {
+    if points.len() < 2 || b >= samples.len() || a > b || pieces.len() != chains.len() {
         return f64::INFINITY;
     }
     // Every segment of the closed curve in order.
@@ -446,33 +449,31 @@ pub fn folded_deviation(
             .iter()
             .position(|s| s.samples.0 <= index && index <= s.samples.1)
     };
-    let reach = ((PARTNER_REACH_SHARE * m as f64) as usize).max(2);
-    let chord_error = FOLDED_CHORD_FRACTION * tolerance;
+    let chord_error = Resolution::new(tolerance).chord_error;
     let mut worst: f64 = 0.0;
     let mut traces: Vec<Option<Vec<(f64, Point)>>> = vec![None; n];
-    // The first folded sample is just past the seam: its partner is among the loop's first.
-    let mut partner = 0;
-    for q in &samples[a..=b] {
-        partner = (0..=reach)
-            .map(|d| (partner + d) % m)
-            .min_by(|&i, &j| q.distance(points[i]).total_cmp(&q.distance(points[j])))
-            .unwrap_or(partner);
+    for (q, (partner, _)) in samples[a..=b]
+        .iter()
+        .zip(ordered_partners(&points, &samples[a..=b]))
+    {
         let (p, i) = from[partner];
         let Some(own) = holding(pieces[p].indices[i]) else {
             return f64::INFINITY;
         };
-        // Each candidate's nearest point: a segment of a closed chain may turn more than half
-        // a turn, where a foot found from its start can be a far local one; its trace finds
-        // the nearest (as the chain's own measure does).
-        let mut distance = f64::INFINITY;
-        for k in [own + n - 1, own, own + 1] {
-            let segment = &segments[k % n].segment;
-            let trace = traces[k % n].get_or_insert_with(|| trace(segment, chord_error));
-            distance = distance
-                .min(deviation(segment, &[*q], chord_error).max)
-                .min(traced_distance(segment, trace, *q));
-        }
-        worst = worst.max(distance);
+        // Measured as the chain's own measure measures a sample: its own segment or a
+        // neighbour, each afresh (a segment of a closed chain may turn more than half a turn).
+        let nearest = [own + n - 1, own, own + 1]
+            .into_iter()
+            .map(|k| {
+                distance_on(
+                    &segments[k % n].segment,
+                    &mut traces[k % n],
+                    *q,
+                    chord_error,
+                )
+            })
+            .fold(f64::INFINITY, f64::min);
+        worst = worst.max(nearest);
     }
     worst
 }

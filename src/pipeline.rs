@@ -581,7 +581,8 @@ pub fn fit_stroke(
         DwellOptions::for_tolerance(read_at)
     };
     let pieces: Vec<Piece> = prepare(stroke, &options.corner_options(read_at), &dwell);
-    // The pieces fitted so far, by piece (a closed fit not taken leaves its inner pieces).
+    // The pieces a closed fit fitted, by piece: one not taken leaves its inner pieces, whose
+    // fits do not depend on the closure, to the open fit.
     let mut fitted = Vec::new();
     if options.close && options.lac {
         let corner = options.corner_angle.to_radians();
@@ -607,8 +608,16 @@ pub fn fit_stroke(
         options,
         &fit_options,
         None,
-        &mut fitted,
+        Known::Reuse(&fitted),
     )
+}
+
+/// The pieces already fitted for [`fit_pieces`]: those of a closed fit are kept (`Keep`, each
+/// piece without a seam end, with its fit) for the open fit that may follow to reuse
+/// (`Reuse`); an open fit alone keeps nothing (no copy on the common path).
+enum Known<'a> {
+    Keep(&'a mut Vec<(Piece, CurveFit)>),
+    Reuse(&'a [(Piece, CurveFit)]),
 }
 
 /// Where a closed stroke's curve closes, for [`fit_piece`]: the point both of its ends are held
@@ -659,7 +668,7 @@ fn fit_closed(
         options,
         fit_options,
         Some(Closing { meet, seam }),
-        fitted,
+        Known::Keep(fitted),
     )
     .ok()?;
     // A closed curve that misses the tolerance, has fallen back to G1 where a smooth chain was
@@ -685,7 +694,7 @@ fn fit_closed(
         .filter_map(|c| c.chain.as_ref().map(|ch| ch.segments.as_slice()))
         .collect();
     // The curves' pieces as fitted (a piece cut at its sharpest vertex is two curves).
-    let fitted: Vec<Piece> = curves
+    let loop_pieces: Vec<Piece> = curves
         .iter()
         .map(|c| Piece {
             points: c.points.clone(),
@@ -696,7 +705,7 @@ fn fit_closed(
         })
         .collect();
     let positions: Vec<crate::geom::Point> = stroke.samples.iter().map(|s| s.point()).collect();
-    let folded = folded_deviation(&positions, closure, &fitted, &chains, tolerance);
+    let folded = folded_deviation(&positions, closure, &loop_pieces, &chains, tolerance);
     if !(folded <= crate::closure::FOLDED_TOLERANCES * tolerance) {
         return None;
     }
@@ -713,8 +722,8 @@ fn fit_closed(
 }
 
 /// Fits `pieces` in order, each through [`fit_piece`] (a piece too short for its tolerance, or
-/// folding back on itself, is cut at its sharpest vertex first); a piece in `fitted` is taken
-/// from there, and every piece fitted without a seam end is added to it.
+/// folding back on itself, is cut at its sharpest vertex first), taking a piece's fit from
+/// `known` where it is there ([`Known`]).
 fn fit_pieces(
     pieces: Vec<Piece>,
     index: usize,
@@ -722,7 +731,7 @@ fn fit_pieces(
     options: &PipelineOptions,
     fit_options: &FitOptions,
     closing: Option<Closing>,
-    fitted: &mut Vec<(Piece, CurveFit)>,
+    mut known: Known,
 ) -> Result<Vec<CurveFit>, PipelineError> {
     let mut pending = pieces;
     pending.reverse();
@@ -730,14 +739,19 @@ fn fit_pieces(
     while let Some(piece) = pending.pop() {
         // A piece fitted already (between a closed stroke's first and last pieces, whose closed
         // fit was not taken) is the same fit: its ends do not depend on the closure.
-        let seam = piece.start == PieceEnd::Seam || piece.end == PieceEnd::Seam;
-        let known = fitted
-            .iter()
-            .find(|(p, _)| !seam && *p == piece)
-            .map(|(_, c)| Ok(c.clone()));
-        let result = known
+        let reused = match &known {
+            Known::Reuse(fitted) => fitted
+                .iter()
+                .find(|(p, _)| *p == piece)
+                .map(|(_, c)| Ok(c.clone())),
+            Known::Keep(_) => None,
+        };
+        let result = reused
             .unwrap_or_else(|| fit_piece(&piece, index, tolerance, options, fit_options, closing));
-        if !seam && let Ok(curve) = &result {
+        let seam = piece.start == PieceEnd::Seam || piece.end == PieceEnd::Seam;
+        if let (Known::Keep(fitted), Ok(curve)) = (&mut known, &result)
+            && !seam
+        {
             fitted.push((piece.clone(), curve.clone()));
         }
         match result {

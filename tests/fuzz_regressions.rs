@@ -172,10 +172,7 @@ fn hid_descriptor_long_item_usage_without_page() {
 /// `KANSEI_TURNING_CASES=N` runs N of them instead (a longer search outside cargo-fuzz).
 #[test]
 fn turning_inputs_keep_the_guarantee() {
-    let cases = std::env::var("KANSEI_TURNING_CASES")
-        .ok()
-        .and_then(|n| n.parse().ok())
-        .unwrap_or(TURNING_CASES);
+    let cases = case_count("KANSEI_TURNING_CASES", TURNING_CASES);
     let mut rng = adversarial::SplitMix::new(0x6c6f_6f70);
     for case in 0..cases {
         let len = 2 + 2 * rng.int(10, 60) as usize;
@@ -199,10 +196,7 @@ fn turning_inputs_keep_the_guarantee() {
 /// `KANSEI_CLOSING_CASES=N` runs N of them instead.
 #[test]
 fn closing_inputs_keep_the_guarantee() {
-    let cases = std::env::var("KANSEI_CLOSING_CASES")
-        .ok()
-        .and_then(|n| n.parse().ok())
-        .unwrap_or(CLOSING_CASES);
+    let cases = case_count("KANSEI_CLOSING_CASES", CLOSING_CASES);
     let mut rng = adversarial::SplitMix::new(0x636c_6f73);
     let mut closed = 0;
     for case in 0..cases {
@@ -227,6 +221,14 @@ fn closing_inputs_keep_the_guarantee() {
 
 /// Closing inputs [`closing_inputs_keep_the_guarantee`] tries by default.
 const CLOSING_CASES: usize = 60;
+
+/// How many pseudo-random inputs to try: the environment's `variable` where set, else `default`.
+fn case_count(variable: &str, default: usize) -> usize {
+    std::env::var(variable)
+        .ok()
+        .and_then(|n| n.parse().ok())
+        .unwrap_or(default)
+}
 
 /// Turning inputs [`turning_inputs_keep_the_guarantee`] tries by default (about 6 s).
 const TURNING_CASES: usize = 120;

@@ -76,7 +76,7 @@ pub(crate) fn measured_deviation(
 /// the chord error of it, [`crate::lac::deviation::trace`], computed once per segment by the
 /// caller): the global distance to the segment, where a foot-point search may settle on a local
 /// minimum.
-pub(crate) fn traced_distance(segment: &LacSegment, trace: &[(f64, Point)], q: Point) -> f64 {
+fn traced_distance(segment: &LacSegment, trace: &[(f64, Point)], q: Point) -> f64 {
     let mut best = (f64::INFINITY, 0.0);
     let mut previous: Option<(Point, f64)> = None;
     for &(sb, b) in trace {
@@ -94,6 +94,20 @@ pub(crate) fn traced_distance(segment: &LacSegment, trace: &[(f64, Point)], q: P
     let at = best.1;
     crate::lac::deviation::deviation_near(segment, &[q], &[at])
         .map_or_else(|| q.distance(segment.point(at)), |d| d.max)
+}
+
+/// The distance from `q` to `segment` measured afresh: the nearer of a local foot (Newton from
+/// the segment's start) and the foot found from the segment's trace, made into `trace` the first
+/// time it is asked for (a segment turning more than half a turn can hold a far local foot).
+pub(crate) fn distance_on(
+    segment: &LacSegment,
+    trace: &mut Option<Vec<(f64, Point)>>,
+    q: Point,
+    chord_error: f64,
+) -> f64 {
+    let local = deviation(segment, &[q], chord_error).max;
+    let trace = trace.get_or_insert_with(|| crate::lac::deviation::trace(segment, chord_error));
+    local.min(traced_distance(segment, trace, q))
 }
 
 /// The largest distance from a sample to its own segment, given each segment's samples
@@ -134,11 +148,7 @@ pub(crate) fn own_deviation(
         let q = points[i];
         let mut nearest = d;
         for m in k.saturating_sub(1)..=(k + 1).min(segments.len() - 1) {
-            let segment = &segments[m];
-            let local = deviation(segment, &[q], chord_error).max;
-            let trace =
-                traces[m].get_or_insert_with(|| crate::lac::deviation::trace(segment, chord_error));
-            nearest = nearest.min(local).min(traced_distance(segment, trace, q));
+            nearest = nearest.min(distance_on(&segments[m], &mut traces[m], q, chord_error));
         }
         worst = worst.max(nearest);
     }

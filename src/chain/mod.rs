@@ -36,7 +36,7 @@ pub use record::{
     Chain, ChainError, ChainInput, ChainOptions, ChainSegment, Continuity, JointKind, SeamPose,
 };
 
-pub(crate) use measure::traced_distance;
+pub(crate) use measure::{Resolution, distance_on};
 use smooth::{SmoothInput, smooth_chain};
 
 /// Fits the chain (see the module doc).
